@@ -1,0 +1,170 @@
+"""The bond list: a frozen struct of flat arrays in directed CSR order."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from peridynamics.bonds.partial_volume import (
+    PARTIAL_VOLUME_RULES,
+    PartialVolume,
+    partial_volume_factor,
+    search_radius,
+)
+from peridynamics.bonds.precrack import Crack, crossing_bonds
+from peridynamics.bonds.search import directed_csr, find_pairs
+from peridynamics.geometry.cloud import PointCloud
+
+
+@dataclass(frozen=True)
+class Bonds:
+    """Directed full bond list (both (i, j) and (j, i)), bonds of point i contiguous.
+
+    Attributes
+    ----------
+    offsets : (n_points + 1,) int64
+        Bonds of point ``i`` are ``offsets[i]:offsets[i + 1]``.
+    bond_i, bond_j : (n_bonds,) int32
+        Owner point and neighbour point of each directed bond.
+    bond_xi : (n_bonds, dim) float64
+        Reference bond vector ``x_j - x_i`` (m).
+    bond_length : (n_bonds,) float64
+        ``|xi|`` (m).
+    bond_volume : (n_bonds,) float64
+        Partial volume ``beta * V_j`` (m^3) used in every family sum.
+    bond_correction : (n_bonds,) float64
+        Surface-correction factor (1 without correction), symmetric in (i, j).
+    bond_intact : (n_bonds,) uint8
+        1 for intact bonds, 0 for bonds cut by pre-cracks.
+    horizon : float
+        delta (m).
+    partial_volume : str
+        Rule used for ``bond_volume`` (see :mod:`peridynamics.bonds.partial_volume`).
+    """
+
+    offsets: NDArray[np.int64]
+    bond_i: NDArray[np.int32]
+    bond_j: NDArray[np.int32]
+    bond_xi: NDArray[np.float64]
+    bond_length: NDArray[np.float64]
+    bond_volume: NDArray[np.float64]
+    bond_correction: NDArray[np.float64]
+    bond_intact: NDArray[np.uint8]
+    horizon: float
+    partial_volume: str
+
+    @property
+    def n_bonds(self) -> int:
+        """Number of directed bonds."""
+        return int(self.bond_j.shape[0])
+
+    @property
+    def n_points(self) -> int:
+        """Number of points."""
+        return int(self.offsets.shape[0] - 1)
+
+    @property
+    def family_size(self) -> NDArray[np.int64]:
+        """Number of bonds per point, shape (n_points,)."""
+        return np.diff(self.offsets)
+
+    @property
+    def nbytes(self) -> int:
+        """Memory held by the per-bond arrays (bytes)."""
+        return sum(
+            a.nbytes
+            for a in (self.bond_i, self.bond_j, self.bond_xi, self.bond_length,
+                      self.bond_volume, self.bond_correction, self.bond_intact)
+        )
+
+    def reverse_index(self) -> NDArray[np.int64]:
+        """Index of bond (j, i) for every bond (i, j), shape (n_bonds,)."""
+        n = np.int64(self.n_points)
+        key = self.bond_i.astype(np.int64) * n + self.bond_j
+        rkey = self.bond_j.astype(np.int64) * n + self.bond_i
+        return np.searchsorted(key, rkey)  # keys are sorted by construction
+
+    def cut(self, x: NDArray[np.float64], cracks: Sequence[Crack]) -> Bonds:
+        """Return a copy with every bond crossing one of ``cracks`` marked broken."""
+        hit = crossing_bonds(x, self.bond_i, self.bond_j, cracks)
+        intact = self.bond_intact.copy()
+        intact[hit] = 0
+        return replace(self, bond_intact=intact)
+
+    def with_correction(self, factors: NDArray[np.float64]) -> Bonds:
+        """Return a copy with per-bond surface-correction ``factors`` (n_bonds,)."""
+        f = np.ascontiguousarray(factors, dtype=np.float64)
+        if f.shape != (self.n_bonds,):
+            raise ValueError(f"expected {self.n_bonds} correction factors, got {f.shape}")
+        return replace(self, bond_correction=f)
+
+
+def build_bonds(
+    cloud: PointCloud,
+    horizon: float,
+    partial_volume: PartialVolume = "truncated",
+    cracks: Sequence[Crack] = (),
+) -> Bonds:
+    """Find every bond within the horizon and build the directed CSR list.
+
+    Parameters
+    ----------
+    cloud : PointCloud
+    horizon : float
+        delta (m); must be >= the grid spacing.
+    partial_volume : {"truncated", "extended", "none"}
+        Partial-volume rule (seed 000 eq. 9 / seed 001 eq. 11 / none).
+    cracks : sequence of cracks
+        Pre-cracks; bonds crossing them start broken.
+
+    Raises
+    ------
+    ValueError
+        If delta < dx, or some point has no bond (it would move freely).
+    """
+    dx = cloud.spacing
+    if not horizon >= dx * (1 - 1e-9):
+        raise ValueError(
+            f"horizon {horizon} m is smaller than the grid spacing {dx} m: every point "
+            "would be alone; use horizon >= spacing (typically about 3 * spacing)"
+        )
+    if partial_volume not in PARTIAL_VOLUME_RULES:
+        raise ValueError(
+            f"unknown partial_volume {partial_volume!r}; use one of {PARTIAL_VOLUME_RULES}"
+        )
+    x = cloud.x
+    pairs = find_pairs(x, search_radius(horizon, dx, partial_volume))
+    offsets, bond_i, bond_j = directed_csr(pairs, cloud.n_points)
+    xi = x[bond_j] - x[bond_i]
+    length = np.sqrt(np.einsum("ij,ij->i", xi, xi))
+    beta = partial_volume_factor(length, horizon, dx, partial_volume)
+    keep = beta > 0
+    if not np.all(keep):  # drop zero-weight bonds (rare: only at the search rim)
+        bond_i, bond_j, xi, length, beta = (a[keep] for a in (bond_i, bond_j, xi, length, beta))
+        offsets = np.zeros(cloud.n_points + 1, dtype=np.int64)
+        np.cumsum(np.bincount(bond_i, minlength=cloud.n_points), out=offsets[1:])
+    lonely = np.flatnonzero(np.diff(offsets) == 0)
+    if lonely.size:
+        k = int(lonely[0])
+        raise ValueError(
+            f"{lonely.size} point(s) have no bond within the horizon {horizon} m, e.g. point "
+            f"{k} at {x[k].tolist()}; increase the horizon or remove isolated points"
+        )
+    bonds = Bonds(
+        offsets=offsets,
+        bond_i=np.ascontiguousarray(bond_i),
+        bond_j=np.ascontiguousarray(bond_j),
+        bond_xi=np.ascontiguousarray(xi),
+        bond_length=np.ascontiguousarray(length),
+        bond_volume=np.ascontiguousarray(beta * cloud.volume[bond_j]),
+        bond_correction=np.ones(len(bond_j)),
+        bond_intact=np.ones(len(bond_j), dtype=np.uint8),
+        horizon=float(horizon),
+        partial_volume=str(partial_volume),
+    )
+    if cracks:
+        bonds = bonds.cut(x, cracks)
+    return bonds

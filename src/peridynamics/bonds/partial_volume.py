@@ -1,0 +1,49 @@
+"""Partial-volume ("volume correction") factors beta(|xi|) in [0, 1].
+
+Two forms appear in the seeds (SPEC.md section 0.2):
+
+* ``"truncated"`` -- seed 000 eq. 9 (Silling & Askari 2005; identical to Madenci &
+  Oterkus 2014): beta = 1 for |xi| <= delta - dx/2, beta = (delta - |xi|)/dx + 1/2 for
+  delta - dx/2 < |xi| <= delta, 0 beyond delta. A node exactly at |xi| = delta gets 1/2,
+  which makes PD with delta = dx identical to central finite differences (seed 000 eq. 17).
+* ``"extended"`` -- seed 001 eq. 11: beta = 1 for |xi| <= delta - dx/2,
+  beta = (delta + dx/2 - |xi|)/dx for delta - dx/2 < |xi| < delta + dx/2, 0 beyond: the
+  family reaches delta + dx/2.
+* ``"none"`` -- beta = 1 inside delta.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+PartialVolume = Literal["truncated", "extended", "none"]
+PARTIAL_VOLUME_RULES: tuple[str, ...] = ("truncated", "extended", "none")
+
+#: relative tolerance that keeps nodes at exactly |xi| = delta in the family
+HORIZON_TOL = 1e-9
+
+
+def search_radius(horizon: float, dx: float, rule: PartialVolume) -> float:
+    """Largest bond length that can get a non-zero factor (m)."""
+    reach = horizon + 0.5 * dx if rule == "extended" else horizon
+    return reach * (1.0 + HORIZON_TOL)
+
+
+def partial_volume_factor(
+    length: NDArray[np.float64], horizon: float, dx: float, rule: PartialVolume
+) -> NDArray[np.float64]:
+    """Factor beta for bonds of reference ``length`` (m), shape (n_bonds,)."""
+    length = np.asarray(length, dtype=np.float64)
+    h = horizon * (1.0 + HORIZON_TOL)
+    if rule == "none":
+        return np.where(length <= h, 1.0, 0.0)
+    if rule == "truncated":
+        beta = np.clip((horizon - length) / dx + 0.5, 0.0, 1.0)
+        return np.where(length <= h, beta, 0.0)
+    if rule == "extended":
+        beta = np.clip((horizon + 0.5 * dx - length) / dx, 0.0, 1.0)
+        return np.where(length < (horizon + 0.5 * dx) * (1 - HORIZON_TOL), beta, 0.0)
+    raise ValueError(f"unknown partial-volume rule {rule!r}; use one of {PARTIAL_VOLUME_RULES}")

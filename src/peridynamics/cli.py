@@ -1,0 +1,194 @@
+"""Command line: ``peridynamics run|check|examples|bench``.
+
+Exit codes: 0 success; 2 invalid deck or model set-up (the key path is on stderr);
+3 the run went unstable (a summary and ``last_good.vtu`` are written).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+import sys
+from pathlib import Path
+
+from peridynamics import __version__
+
+EXIT_OK, EXIT_INVALID, EXIT_UNSTABLE = 0, 2, 3
+
+
+def examples_dir() -> Path:
+    """Folder holding the example decks (installed copy first, then the source tree)."""
+    here = Path(__file__).resolve().parent
+    for cand in (here / "_examples", here.parents[1] / "examples"):
+        if cand.is_dir():
+            return cand
+    raise FileNotFoundError("the example decks are not installed")
+
+
+def list_examples() -> dict[str, Path]:
+    """Map example name -> deck path (every ``*.yaml`` under the examples folder)."""
+    root = examples_dir()
+    out = {}
+    for p in sorted(root.rglob("*.yaml")):
+        rel = p.relative_to(root)
+        name = rel.parent.as_posix() if p.stem == "deck" else rel.with_suffix("").as_posix()
+        out[name] = p
+    return out
+
+
+def _err(msg: str) -> None:
+    print(msg, file=sys.stderr)
+
+
+def _load(args: argparse.Namespace):  # noqa: ANN202 - returns a Deck
+    from peridynamics.io.deck import DeckError, load_deck
+
+    try:
+        return load_deck(args.deck, overrides=args.set or [])
+    except DeckError as exc:
+        _err(str(exc))
+        return None
+
+
+def cmd_check(args: argparse.Namespace) -> int:
+    """Validate a deck and build its geometry and node sets, without running."""
+    from peridynamics.runner import SetupError, build_bonds_for, build_cloud
+
+    deck = _load(args)
+    if deck is None:
+        return EXIT_INVALID
+    try:
+        cloud = build_cloud(deck)
+        bonds = build_bonds_for(deck, cloud) if args.bonds else None
+    except SetupError as exc:
+        _err(f"invalid deck:\n  {exc}")
+        return EXIT_INVALID
+    extra = f", {bonds.n_bonds} bonds" if bonds is not None else ""
+    print(f"{args.deck}: valid ({deck.dim}-D, {cloud.n_points} points{extra})")
+    return EXIT_OK
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    """Run a deck."""
+    from peridynamics.runner import SetupError, Simulation
+    from peridynamics.solvers import SimulationUnstable
+
+    deck = _load(args)
+    if deck is None:
+        return EXIT_INVALID
+    out = Path(args.resume or args.out or Path("results") / deck.name)
+    try:
+        sim = Simulation.from_deck(deck)
+        if not args.quiet:
+            print(f"{deck.name}: {sim.cloud.n_points} points, {sim.model.bonds.n_bonds} bonds, "
+                  f"dt = {sim.solver.dt:.4g} s, {sim.n_steps} steps -> {out}")
+        summary = sim.run(out, quiet=args.quiet, checkpoint_every=args.checkpoint_every,
+                          resume=bool(args.resume))
+    except SetupError as exc:
+        _err(f"invalid deck:\n  {exc}")
+        return EXIT_INVALID
+    except FileNotFoundError as exc:
+        _err(str(exc))
+        return EXIT_INVALID
+    except SimulationUnstable as exc:
+        _err(f"error: {exc}\nwrote {out / 'last_good.vtu'} and {out / 'summary.json'}")
+        return EXIT_UNSTABLE
+    if not args.quiet:
+        r, t = summary["results"], summary["timing"]
+        print(f"done: {t['steps']} steps in {t['wall_s']:.2f} s "
+              f"({t['bond_updates_per_s']:.3g} bond updates/s); max damage "
+              f"{r['max_damage']:.3f}; wrote {out / 'summary.json'}")
+    return EXIT_OK
+
+
+def cmd_examples(args: argparse.Namespace) -> int:
+    """List the examples or copy one to a folder."""
+    ex = list_examples()
+    if args.action == "list" or args.action is None:
+        for name, path in ex.items():
+            print(f"{name:40s} {path}")
+        return EXIT_OK
+    if not args.name or args.name not in ex:
+        _err(f"unknown example {args.name!r}; known: {', '.join(ex)}")
+        return EXIT_INVALID
+    src = ex[args.name]
+    dest = Path(args.dest or ".")
+    dest.mkdir(parents=True, exist_ok=True)
+    if src.stem == "deck":  # a folder example: copy the whole folder
+        target = dest / src.parent.name
+        shutil.copytree(src.parent, target, dirs_exist_ok=True)
+    else:
+        target = dest / src.name
+        shutil.copy2(src, target)
+    print(f"copied {args.name} to {target}")
+    return EXIT_OK
+
+
+def cmd_bench(args: argparse.Namespace) -> int:
+    """Run the kernel benchmark."""
+    from peridynamics.bench import run_benchmarks
+
+    dims = tuple(int(d) for d in args.dims.split(","))
+    results = run_benchmarks(args.size, dims=dims, steps=args.steps)
+    if args.json:
+        print(json.dumps([r.as_dict() for r in results], indent=2))
+    else:
+        print(f"{'dim':>3} {'points':>9} {'bonds':>11} {'s/step':>9} {'bonds/s':>10} "
+              f"{'numpy b/s':>10} {'speedup':>8} {'B/bond':>7}")
+        for r in results:
+            print(f"{r.dim:>3} {r.points:>9} {r.bonds:>11} {r.seconds_per_step:>9.4f} "
+                  f"{r.bonds_per_second:>10.3g} {r.numpy_bonds_per_second:>10.3g} "
+                  f"{r.speedup:>8.1f} {r.bytes_per_bond:>7.1f}")
+    return EXIT_OK
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser."""
+    p = argparse.ArgumentParser(prog="peridynamics",
+                                description="Peridynamic simulation of fracture and waves.")
+    p.add_argument("--version", action="version", version=f"peridynamics {__version__}")
+    sub = p.add_subparsers(dest="command", required=True)
+
+    def deck_args(sp: argparse.ArgumentParser) -> None:
+        sp.add_argument("deck", help="YAML deck")
+        sp.add_argument("--set", action="append", metavar="KEY.PATH=VALUE",
+                        help="override a deck value (repeatable), e.g. solver.steps=100")
+
+    r = sub.add_parser("run", help="run a deck")
+    deck_args(r)
+    r.add_argument("--out", help="output folder (default results/<name>)")
+    r.add_argument("--quiet", action="store_true", help="no progress bar or messages")
+    r.add_argument("--checkpoint-every", type=int, default=0, metavar="N",
+                   help="write an atomic checkpoint every N steps")
+    r.add_argument("--resume", metavar="DIR", help="continue from the checkpoint in DIR")
+    r.set_defaults(func=cmd_run)
+
+    c = sub.add_parser("check", help="validate a deck without running (exit 0 valid, 2 not)")
+    deck_args(c)
+    c.add_argument("--bonds", action="store_true", help="also build the bond list")
+    c.set_defaults(func=cmd_check)
+
+    e = sub.add_parser("examples", help="list the examples, or copy one: examples copy NAME DIR")
+    e.add_argument("action", nargs="?", choices=["list", "copy"], default="list")
+    e.add_argument("name", nargs="?")
+    e.add_argument("dest", nargs="?")
+    e.set_defaults(func=cmd_examples)
+
+    b = sub.add_parser("bench", help="benchmark the explicit PMB step (Numba vs NumPy)")
+    b.add_argument("--json", action="store_true", help="print a JSON list of cases")
+    b.add_argument("--size", choices=["quick", "default", "full"], default="default")
+    b.add_argument("--dims", default="1,2,3", help="comma-separated dimensions")
+    b.add_argument("--steps", type=int, default=20)
+    b.set_defaults(func=cmd_bench)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the ``peridynamics`` console script."""
+    args = build_parser().parse_args(argv)
+    return int(args.func(args))
+
+
+if __name__ == "__main__":
+    sys.exit(main())

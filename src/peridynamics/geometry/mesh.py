@@ -1,0 +1,83 @@
+"""Point clouds from finite-element meshes (through meshio): one point per cell."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import meshio
+import numpy as np
+from numpy.typing import NDArray
+
+from peridynamics.geometry.cloud import Plane, PointCloud
+
+_AREA_CELLS = {"triangle", "quad"}
+_VOLUME_CELLS = {"tetra", "hexahedron"}
+
+
+def _triangle_area(p: NDArray[np.float64]) -> NDArray[np.float64]:
+    a, b, c = p[:, 0], p[:, 1], p[:, 2]
+    cr = np.cross(b - a, c - a)
+    return 0.5 * (np.abs(cr) if cr.ndim == 1 else np.linalg.norm(cr, axis=1))
+
+
+def _tet_volume(p: NDArray[np.float64]) -> NDArray[np.float64]:
+    a, b, c, d = (p[:, k] for k in range(4))
+    return np.abs(np.einsum("ij,ij->i", b - a, np.cross(c - a, d - a))) / 6.0
+
+
+def _cell_measures(kind: str, pts: NDArray[np.float64]) -> NDArray[np.float64]:
+    if kind == "triangle":
+        return _triangle_area(pts)
+    if kind == "quad":  # split into two triangles
+        return _triangle_area(pts[:, [0, 1, 2]]) + _triangle_area(pts[:, [0, 2, 3]])
+    if kind == "tetra":
+        return _tet_volume(pts)
+    # hexahedron: split into 6 tetrahedra around the 0-6 diagonal (VTK ordering)
+    tets = [(0, 1, 2, 6), (0, 2, 3, 6), (0, 3, 7, 6), (0, 7, 4, 6), (0, 4, 5, 6), (0, 5, 1, 6)]
+    return sum(_tet_volume(pts[:, list(t)]) for t in tets)
+
+
+def from_mesh(
+    path: str | Path | meshio.Mesh,
+    dim: int | None = None,
+    thickness: float = 1.0,
+    plane: Plane = "stress",
+    spacing: float | None = None,
+) -> PointCloud:
+    """Build a cloud with one point per cell at its centroid and the cell's volume.
+
+    Parameters
+    ----------
+    path : path or meshio.Mesh
+        Any file meshio reads (Gmsh, VTU, Abaqus, ...).
+    dim : {2, 3}, optional
+        2 uses triangle/quad cells (volume = area * thickness); 3 uses tetra/hexahedron
+        cells. Default: 3 if the mesh has volume cells, else 2.
+    spacing : float, optional
+        Nominal spacing; default the cube (3-D) or square (2-D) root of the mean cell size.
+    """
+    mesh = path if isinstance(path, meshio.Mesh) else meshio.read(path)
+    kinds = {blk.type for blk in mesh.cells}
+    if dim is None:
+        dim = 3 if kinds & _VOLUME_CELLS else 2
+    wanted = _VOLUME_CELLS if dim == 3 else _AREA_CELLS
+    centres, measures = [], []
+    for blk in mesh.cells:
+        if blk.type not in wanted:
+            continue
+        pts = np.asarray(mesh.points, dtype=float)[blk.data][:, :, :dim]
+        centres.append(pts.mean(axis=1))
+        measures.append(_cell_measures(blk.type, pts))
+    if not centres:
+        raise ValueError(
+            f"mesh has no {'/'.join(sorted(wanted))} cells for a {dim}-D cloud "
+            f"(found: {', '.join(sorted(kinds)) or 'none'})"
+        )
+    x = np.concatenate(centres)
+    size = np.concatenate(measures)
+    if spacing is None:
+        spacing = float(np.mean(size) ** (1.0 / dim))
+    if dim == 2:
+        return PointCloud(x=x, volume=size * thickness, spacing=spacing,
+                          cross_section=thickness, plane=plane)
+    return PointCloud(x=x, volume=size, spacing=spacing)

@@ -1,0 +1,42 @@
+"""Atomic checkpoints: the solver state plus the observers' records in one .npz file."""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from peridynamics.solvers.state import State
+
+CHECKPOINT_NAME = "checkpoint.npz"
+
+
+def write_checkpoint(out_dir: Path, state: State, records: dict[str, Any],
+                     fingerprint: str) -> Path:
+    """Write ``out_dir/checkpoint.npz`` atomically (write a temporary file, then rename)."""
+    path = out_dir / CHECKPOINT_NAME
+    tmp = out_dir / (CHECKPOINT_NAME + ".tmp")
+    arrays = {f"state_{k}": v for k, v in state.to_arrays().items()}
+    arrays["records_json"] = np.frombuffer(json.dumps(records).encode(), dtype=np.uint8)
+    arrays["fingerprint"] = np.frombuffer(fingerprint.encode(), dtype=np.uint8)
+    with open(tmp, "wb") as fh:
+        np.savez(fh, **arrays)
+        fh.flush()
+        os.fsync(fh.fileno())
+    os.replace(tmp, path)
+    return path
+
+
+def read_checkpoint(out_dir: Path) -> tuple[State, dict[str, Any], str]:
+    """Read the checkpoint in ``out_dir``: (state, records, deck fingerprint)."""
+    path = out_dir / CHECKPOINT_NAME
+    if not path.exists():
+        raise FileNotFoundError(f"no checkpoint in {str(out_dir)!r} (expected {CHECKPOINT_NAME})")
+    with np.load(path) as data:
+        state = State.from_arrays({k[6:]: data[k] for k in data.files if k.startswith("state_")})
+        records = json.loads(bytes(data["records_json"]).decode())
+        fingerprint = bytes(data["fingerprint"]).decode()
+    return state, records, fingerprint

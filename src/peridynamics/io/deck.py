@@ -1,0 +1,704 @@
+"""YAML input decks with a strict schema (pydantic v2).
+
+Every section forbids unknown keys; every number is checked for range; errors name the
+key path (``material.youngs_modulus``) and say what is allowed. The schema is documented
+with one example per section in ``docs/deck.md``.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+import yaml
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
+
+PosFloat = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+NonNegFloat = Annotated[float, Field(ge=0, allow_inf_nan=False)]
+Finite = Annotated[float, Field(allow_inf_nan=False)]
+Component = Literal["x", "y", "z"]
+
+
+class DeckError(ValueError):
+    """An invalid deck. ``errors`` is a list of (key path, message)."""
+
+    def __init__(self, errors: list[tuple[str, str]]) -> None:
+        self.errors = errors
+        lines = [f"{path}: {msg}" if path else msg for path, msg in errors]
+        super().__init__("invalid deck:\n  " + "\n  ".join(lines))
+
+
+class Strict(BaseModel):
+    """Base: unknown keys are errors; values are immutable."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+# --------------------------------------------------------------------------- regions
+class BoxRegion(Strict):
+    """Axis-aligned box; ``.inf`` / ``-.inf`` allowed for open sides."""
+
+    min: list[Annotated[float, Field(allow_inf_nan=True)]]
+    max: list[Annotated[float, Field(allow_inf_nan=True)]]
+
+    @model_validator(mode="after")
+    def _order(self) -> BoxRegion:
+        if len(self.min) != len(self.max):
+            raise ValueError("[max] min and max need the same number of components")
+        if any(math.isnan(v) for v in [*self.min, *self.max]):
+            raise ValueError("NaN is not allowed")
+        if any(a > b for a, b in zip(self.min, self.max, strict=True)):
+            raise ValueError(f"[max] min {self.min} must be <= max {self.max} component-wise")
+        return self
+
+
+class BallRegion(Strict):
+    """Disc (2-D) or sphere (3-D) around ``center``."""
+
+    center: list[Finite]
+    radius: PosFloat
+
+
+class CylinderRegionSpec(Strict):
+    """3-D cylinder from ``base`` along ``axis`` over ``length``."""
+
+    base: list[Finite]
+    axis: list[Finite]
+    radius: PosFloat
+    length: PosFloat
+
+
+class PolygonRegion(Strict):
+    """2-D polygon; at least 3 vertices."""
+
+    vertices: list[list[Finite]] = Field(min_length=3)
+
+
+class HalfSpaceRegion(Strict):
+    """Points with (x - point) . normal >= 0."""
+
+    point: list[Finite]
+    normal: list[Finite]
+
+
+class RegionSpec(Strict):
+    """Exactly one of the keys below."""
+
+    box: BoxRegion | None = None
+    ball: BallRegion | None = None
+    circle: BallRegion | None = None
+    sphere: BallRegion | None = None
+    cylinder: CylinderRegionSpec | None = None
+    polygon: PolygonRegion | None = None
+    half_space: HalfSpaceRegion | None = None
+    point: list[Finite] | None = None
+    everywhere: Literal[True] | None = None
+    set: str | None = None
+    all_of: list[RegionSpec] | None = Field(default=None, min_length=1)
+    any_of: list[RegionSpec] | None = Field(default=None, min_length=1)
+    not_: RegionSpec | None = Field(default=None, alias="not")
+
+    model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True)
+
+    @model_validator(mode="after")
+    def _exactly_one(self) -> RegionSpec:
+        given = [k for k in type(self).model_fields if getattr(self, k) is not None]
+        if len(given) != 1:
+            keys = ", ".join(k.rstrip("_") for k in type(self).model_fields)
+            raise ValueError(f"a region needs exactly one of: {keys}; got {given or 'none'}")
+        return self
+
+    def kind(self) -> str:
+        """The key given."""
+        return next(k for k in type(self).model_fields if getattr(self, k) is not None)
+
+
+# -------------------------------------------------------------------------- geometry
+class BarGeometry(Strict):
+    """1-D bar."""
+
+    type: Literal["bar"]
+    length: PosFloat
+    area: PosFloat = 1.0
+    origin: Finite = 0.0
+    nodes_on_boundary: bool = False
+
+
+class RectangleGeometry(Strict):
+    """2-D rectangle with optional holes."""
+
+    type: Literal["rectangle"]
+    size: tuple[PosFloat, PosFloat]
+    origin: tuple[Finite, Finite] = (0.0, 0.0)
+    thickness: PosFloat = 1.0
+    plane: Literal["stress", "strain"] = "stress"
+    holes: list[RegionSpec] = []
+
+
+class BoxGeometry(Strict):
+    """3-D box with optional cut-outs."""
+
+    type: Literal["box"]
+    size: tuple[PosFloat, PosFloat, PosFloat]
+    origin: tuple[Finite, Finite, Finite] = (0.0, 0.0, 0.0)
+    holes: list[RegionSpec] = []
+
+
+class CylinderGeometry(Strict):
+    """3-D solid cylinder along z."""
+
+    type: Literal["cylinder"]
+    radius: PosFloat
+    length: PosFloat
+    origin: tuple[Finite, Finite, Finite] = (0.0, 0.0, 0.0)
+    holes: list[RegionSpec] = []
+
+
+class MeshGeometry(Strict):
+    """Points at cell centroids of a mesh file read by meshio (path relative to the deck)."""
+
+    type: Literal["mesh"]
+    file: str
+    dim: Literal[2, 3] | None = None
+    thickness: PosFloat = 1.0
+    plane: Literal["stress", "strain"] = "stress"
+
+
+Geometry = Annotated[
+    BarGeometry | RectangleGeometry | BoxGeometry | CylinderGeometry | MeshGeometry,
+    Field(discriminator="type"),
+]
+
+
+def geometry_dim(g: Any) -> int:
+    """Spatial dimension of a geometry section (mesh: declared dim, default 2)."""
+    if isinstance(g, BarGeometry):
+        return 1
+    if isinstance(g, RectangleGeometry):
+        return 2
+    if isinstance(g, MeshGeometry):
+        return g.dim or 2
+    return 3
+
+
+# -------------------------------------------------------------------- discretisation
+class Discretisation(Strict):
+    """Grid spacing and horizon."""
+
+    spacing: PosFloat
+    horizon: PosFloat | None = None
+    horizon_factor: Annotated[float, Field(ge=1.0, allow_inf_nan=False)] | None = None
+    partial_volume: Literal["truncated", "extended", "none"] = "truncated"
+    surface_correction: bool = False
+
+    @model_validator(mode="after")
+    def _horizon(self) -> Discretisation:
+        if (self.horizon is None) == (self.horizon_factor is None):
+            raise ValueError(
+                "[horizon] give exactly one of horizon (m) or horizon_factor (m = delta/dx)"
+            )
+        if self.horizon is not None and self.horizon < self.spacing * (1 - 1e-9):
+            raise ValueError(
+                f"[horizon] horizon {self.horizon} m is smaller than spacing {self.spacing} m; "
+                "use horizon >= spacing (typically 3.015 * spacing)"
+            )
+        return self
+
+    @property
+    def delta(self) -> float:
+        """Horizon (m)."""
+        if self.horizon is not None:
+            return self.horizon
+        assert self.horizon_factor is not None
+        return self.horizon_factor * self.spacing
+
+
+# -------------------------------------------------------------------------- material
+class Material(Strict):
+    """Bond-based PMB material."""
+
+    model: Literal["pmb", "bond_based"] = "pmb"
+    youngs_modulus: PosFloat
+    density: PosFloat
+    poisson_ratio: Annotated[float, Field(gt=-1.0, lt=0.5, allow_inf_nan=False)] | None = None
+    micromodulus_profile: Literal["constant", "conical"] = "constant"
+
+
+class Damage(Strict):
+    """Bond breaking."""
+
+    model: Literal["critical_stretch", "none"] = "critical_stretch"
+    critical_stretch: PosFloat | None = None
+    fracture_energy: PosFloat | None = None
+    no_fail: list[str] = []
+
+    @model_validator(mode="after")
+    def _one(self) -> Damage:
+        if self.model == "none":
+            if self.critical_stretch is not None or self.fracture_energy is not None:
+                raise ValueError(
+                    "[model] model 'none' takes neither critical_stretch nor fracture_energy"
+                )
+        elif (self.critical_stretch is None) == (self.fracture_energy is None):
+            raise ValueError(
+                "[critical_stretch] give exactly one of critical_stretch (s0) "
+                "or fracture_energy (G0, J/m^2)"
+            )
+        return self
+
+
+# --------------------------------------------------------------------- time functions
+class ConstantTF(Strict):
+    """f(t) = value."""
+
+    type: Literal["constant"]
+    value: Finite = 1.0
+
+
+class RampTF(Strict):
+    """0 at start, 1 at end, then 1."""
+
+    type: Literal["ramp"]
+    end: PosFloat
+    start: NonNegFloat = 0.0
+
+    @model_validator(mode="after")
+    def _order(self) -> RampTF:
+        if self.end <= self.start:
+            raise ValueError(f"[end] end ({self.end} s) must be > start ({self.start} s)")
+        return self
+
+
+class TableTF(Strict):
+    """Piecewise-linear table."""
+
+    type: Literal["table"]
+    times: list[NonNegFloat] = Field(min_length=2)
+    values: list[Finite] = Field(min_length=2)
+
+    @model_validator(mode="after")
+    def _table(self) -> TableTF:
+        if len(self.times) != len(self.values):
+            raise ValueError("[values] times and values need the same length")
+        if any(b <= a for a, b in zip(self.times, self.times[1:], strict=False)):
+            raise ValueError("[times] times must increase strictly")
+        return self
+
+
+class TriangularPulseTF(Strict):
+    """Triangle: 0 -> peak at rise_time -> 0 at duration."""
+
+    type: Literal["triangular_pulse"]
+    peak: Finite = 1.0
+    rise_time: PosFloat
+    duration: PosFloat
+
+    @model_validator(mode="after")
+    def _order(self) -> TriangularPulseTF:
+        if self.rise_time >= self.duration:
+            raise ValueError(
+                f"[rise_time] rise_time ({self.rise_time} s) must be < duration ({self.duration} s)"
+            )
+        return self
+
+
+TimeFunctionSpec = Annotated[
+    ConstantTF | RampTF | TableTF | TriangularPulseTF, Field(discriminator="type")
+]
+
+
+# ---------------------------------------------------------------- boundary conditions
+class _OnSet(Strict):
+    set: str
+
+
+class DisplacementBC(_OnSet):
+    """Prescribed displacement components (m), times a time function."""
+
+    type: Literal["displacement"]
+    components: dict[Component, Finite] = Field(min_length=1)
+    time_function: TimeFunctionSpec = ConstantTF(type="constant")
+
+
+class VelocityBC(_OnSet):
+    """Prescribed velocity components (m/s), times a time function."""
+
+    type: Literal["velocity"]
+    components: dict[Component, Finite] = Field(min_length=1)
+    time_function: TimeFunctionSpec = ConstantTF(type="constant")
+
+
+class FixedBC(_OnSet):
+    """u = v = 0 for the listed components (all if omitted)."""
+
+    type: Literal["fixed"]
+    components: list[Component] | None = Field(default=None, min_length=1)
+
+
+class InitialVelocityBC(_OnSet):
+    """v(0) = value (m/s)."""
+
+    type: Literal["initial_velocity"]
+    value: list[Finite]
+
+
+class BodyForceBC(_OnSet):
+    """Body-force density b = value * f(t) (N/m^3)."""
+
+    type: Literal["body_force"]
+    value: list[Finite]
+    time_function: TimeFunctionSpec = ConstantTF(type="constant")
+
+
+class TractionBC(_OnSet):
+    """Surface traction (Pa) applied as a body force over the set's layer."""
+
+    type: Literal["traction"]
+    value: list[Finite]
+    normal: list[Finite] | None = None
+    layer_thickness: PosFloat | None = None
+    time_function: TimeFunctionSpec = ConstantTF(type="constant")
+
+
+class PressureBC(_OnSet):
+    """Pressure p (Pa, > 0 pushes against the outward ``normal``), as a layer body force."""
+
+    type: Literal["pressure"]
+    value: Finite
+    normal: list[Finite]
+    layer_thickness: PosFloat | None = None
+    time_function: TimeFunctionSpec = ConstantTF(type="constant")
+
+
+BoundaryCondition = Annotated[
+    DisplacementBC | VelocityBC | FixedBC | InitialVelocityBC | BodyForceBC | TractionBC
+    | PressureBC,
+    Field(discriminator="type"),
+]
+
+
+class Precrack(Strict):
+    """2 points (2-D segment) or 3 points (3-D rectangle corner p0, p1, p2)."""
+
+    points: list[list[Finite]] = Field(min_length=2, max_length=3)
+
+
+# ----------------------------------------------------------------------------- solver
+class Solver(Strict):
+    """Explicit dynamics."""
+
+    type: Literal["explicit"] = "explicit"
+    integrator: Literal["velocity_verlet", "central_difference"] = "velocity_verlet"
+    time_step: PosFloat | None = None
+    safety_factor: Annotated[float, Field(gt=0, le=1, allow_inf_nan=False)] = 0.8
+    end_time: PosFloat | None = None
+    steps: Annotated[int, Field(gt=0)] | None = None
+    allow_unstable: bool = False
+    blowup_factor: PosFloat = 1.0
+    check_every: Annotated[int, Field(gt=0)] = 10
+
+    @model_validator(mode="after")
+    def _length(self) -> Solver:
+        if (self.end_time is None) == (self.steps is None):
+            raise ValueError("[end_time] give exactly one of end_time (s) or steps")
+        return self
+
+
+# ----------------------------------------------------------------------------- output
+Quantity = Literal["displacement", "velocity", "force_density", "reaction_force",
+                   "max_stretch", "damage"]
+
+
+class Probe(Strict):
+    """A recorded quantity on a node set, reduced to one number per record."""
+
+    name: str = Field(min_length=1)
+    quantity: Quantity
+    set: str
+    component: Literal["x", "y", "z", "magnitude"] = "x"
+    reduce: Literal["mean", "sum", "max", "min"] | None = None
+
+
+class CrackTip(Strict):
+    """Track the damaged point farthest from ``origin`` along ``direction``."""
+
+    origin: list[Finite]
+    direction: list[Finite] | None = None
+    damage_threshold: Annotated[float, Field(gt=0, lt=1)] = 0.35
+
+
+class Output(Strict):
+    """What to write."""
+
+    vtk_every: Annotated[int, Field(ge=0)] = 0
+    history_every: Annotated[int, Field(gt=0)] = 10
+    fields: list[Literal["displacement", "velocity", "damage", "force_density"]] = [
+        "displacement", "velocity", "damage", "force_density"]
+    probes: list[Probe] = []
+    crack_tip: CrackTip | None = None
+    plot: Literal["auto", "damage", "probes", "none"] = "auto"
+
+
+class Deck(Strict):
+    """A whole simulation."""
+
+    name: str = Field(min_length=1)
+    description: str = ""
+    geometry: Geometry
+    discretisation: Discretisation
+    material: Material
+    damage: Damage = Damage(model="none")
+    node_sets: dict[str, RegionSpec] = {}
+    precracks: list[Precrack] = []
+    boundary_conditions: list[BoundaryCondition] = []
+    solver: Solver
+    output: Output = Output()
+
+    @field_validator("node_sets")
+    @classmethod
+    def _names(cls, v: dict[str, RegionSpec]) -> dict[str, RegionSpec]:
+        for name in v:
+            if not name or name == "all":
+                raise ValueError(f"node set name {name!r} is reserved or empty")
+        return v
+
+    @property
+    def dim(self) -> int:
+        """Spatial dimension."""
+        return geometry_dim(self.geometry)
+
+
+# ----------------------------------------------------------- cross-field validation
+def _check_len(errors: list, path: str, vec: list | tuple | None, dim: int) -> None:
+    if vec is not None and len(vec) != dim:
+        errors.append((path, f"needs {dim} components for a {dim}-D model, got {len(vec)}"))
+
+
+def _check_region(errors: list, path: str, r: RegionSpec, dim: int, sets: set[str]) -> None:
+    k = r.kind()
+    val = getattr(r, k)
+    if k == "box":
+        _check_len(errors, f"{path}.box.min", val.min, dim)
+        _check_len(errors, f"{path}.box.max", val.max, dim)
+    elif k in ("ball", "circle", "sphere"):
+        _check_len(errors, f"{path}.{k}.center", val.center, dim)
+    elif k == "cylinder":
+        if dim != 3:
+            errors.append((f"{path}.cylinder", "cylinder regions are 3-D"))
+        _check_len(errors, f"{path}.cylinder.base", val.base, 3)
+        _check_len(errors, f"{path}.cylinder.axis", val.axis, 3)
+    elif k == "polygon":
+        if dim != 2:
+            errors.append((f"{path}.polygon", "polygon regions are 2-D"))
+        for n, v in enumerate(val.vertices):
+            _check_len(errors, f"{path}.polygon.vertices.{n}", v, 2)
+    elif k == "half_space":
+        _check_len(errors, f"{path}.half_space.point", val.point, dim)
+        _check_len(errors, f"{path}.half_space.normal", val.normal, dim)
+        if not any(val.normal):
+            errors.append((f"{path}.half_space.normal", "must be non-zero"))
+    elif k == "point":
+        _check_len(errors, f"{path}.point", val, dim)
+    elif k == "set":
+        if val not in sets:
+            errors.append((f"{path}.set", f"unknown node set {val!r}; known: {sorted(sets)}"))
+    elif k in ("all_of", "any_of"):
+        for n, sub in enumerate(val):
+            _check_region(errors, f"{path}.{k}.{n}", sub, dim, sets)
+    elif k == "not_":
+        _check_region(errors, f"{path}.not", val, dim, sets)
+
+
+def cross_check(deck: Deck) -> list[tuple[str, str]]:
+    """Checks that need several sections: dimensions, node-set names, Poisson ratio."""
+    from peridynamics.materials.bond_based import fixed_poisson_ratio
+
+    errors: list[tuple[str, str]] = []
+    dim = deck.dim
+    g = deck.geometry
+    sets = set(deck.node_sets) | {"all"}
+    for name, region in deck.node_sets.items():
+        _check_region(errors, f"node_sets.{name}", region, dim, sets - {name})
+    for n, hole in enumerate(getattr(g, "holes", [])):
+        _check_region(errors, f"geometry.holes.{n}", hole, dim, set())
+    plane = getattr(g, "plane", None)
+    nu_fixed = fixed_poisson_ratio(dim, plane if dim == 2 else None)
+    nu = deck.material.poisson_ratio
+    if nu is not None and nu_fixed is not None and abs(nu - nu_fixed) > 1e-6:
+        what = f"{dim}-D" + (f" plane {plane}" if dim == 2 else "")
+        errors.append(("material.poisson_ratio",
+                       f"bond-based PMB fixes nu = {nu_fixed:.6g} in {what}; got {nu} "
+                       "(omit poisson_ratio or set it to that value)"))
+    for n, name in enumerate(deck.damage.no_fail):
+        if name not in sets:
+            errors.append((f"damage.no_fail.{n}", f"unknown node set {name!r}; known: {sorted(sets)}"))
+    for n, bc in enumerate(deck.boundary_conditions):
+        path = f"boundary_conditions.{n}"
+        if bc.set not in sets:
+            errors.append((f"{path}.set", f"unknown node set {bc.set!r}; known: {sorted(sets)}"))
+        comps = getattr(bc, "components", None) or []
+        for comp in comps:
+            if "xyz".index(comp) >= dim:
+                errors.append((f"{path}.components.{comp}",
+                               f"component {comp!r} does not exist in {dim}-D"))
+        for key in ("value", "normal"):
+            vec = getattr(bc, key, None)
+            if isinstance(vec, list):
+                _check_len(errors, f"{path}.{key}", vec, dim)
+        if getattr(bc, "type", "") == "traction" and bc.normal is None and not any(bc.value):
+            errors.append((f"{path}.normal", "give a normal when the traction value is zero"))
+    for n, crack in enumerate(deck.precracks):
+        want = 2 if dim == 2 else 3
+        if dim == 1:
+            errors.append((f"precracks.{n}", "pre-cracks need a 2-D or 3-D model"))
+            continue
+        if len(crack.points) != want:
+            errors.append((f"precracks.{n}.points",
+                           f"a {dim}-D crack is {want} points, got {len(crack.points)}"))
+        for k, p in enumerate(crack.points):
+            _check_len(errors, f"precracks.{n}.points.{k}", p, dim)
+    for n, probe in enumerate(deck.output.probes):
+        if probe.set not in sets:
+            errors.append((f"output.probes.{n}.set",
+                           f"unknown node set {probe.set!r}; known: {sorted(sets)}"))
+        if probe.component in ("y", "z") and "xyz".index(probe.component) >= dim:
+            errors.append((f"output.probes.{n}.component",
+                           f"component {probe.component!r} does not exist in {dim}-D"))
+    names = [p.name for p in deck.output.probes]
+    dup = sorted({p for p in names if names.count(p) > 1})
+    if dup:
+        errors.append(("output.probes", f"probe names must be unique; repeated: {dup}"))
+    if deck.output.crack_tip is not None:
+        _check_len(errors, "output.crack_tip.origin", deck.output.crack_tip.origin, dim)
+        _check_len(errors, "output.crack_tip.direction", deck.output.crack_tip.direction, dim)
+    return errors
+
+
+# -------------------------------------------------------------------- load / overrides
+def _format_loc(loc: tuple[Any, ...]) -> str:
+    parts = []
+    for p in loc:
+        if isinstance(p, str) and p.endswith("]"):
+            continue  # pydantic's union-member tags, e.g. 'function-after[...]'
+        parts.append("not" if p == "not_" else str(p))
+    return ".".join(parts)
+
+
+_TYPE_TAGS = {"bar", "rectangle", "box", "cylinder", "mesh", "constant", "ramp", "table",
+              "triangular_pulse", "displacement", "velocity", "fixed", "initial_velocity",
+              "body_force", "traction", "pressure"}
+
+
+def _clean_loc(loc: tuple[Any, ...]) -> tuple[Any, ...]:
+    # drop discriminator tags that pydantic inserts into the location
+    out = []
+    for n, p in enumerate(loc):
+        if isinstance(p, str) and p in _TYPE_TAGS and n > 0 and loc[n - 1] not in ("type",):
+            prev = loc[n - 1]
+            if isinstance(prev, int) or prev in ("geometry", "time_function"):
+                continue
+        out.append(p)
+    return tuple(out)
+
+
+def validation_errors(exc: ValidationError) -> list[tuple[str, str]]:
+    """(key path, message) pairs from a pydantic error."""
+    out = []
+    for e in exc.errors():
+        path = _format_loc(_clean_loc(tuple(e["loc"])))
+        msg = e["msg"]
+        if e["type"] == "extra_forbidden":
+            msg = "unknown key (check the spelling; docs/deck.md lists the allowed keys)"
+        elif e["type"] == "missing":
+            msg = "required key is missing"
+        elif e["type"] == "union_tag_invalid":
+            msg = f"{msg}"
+        msg = msg.removeprefix("Value error, ")
+        if msg.startswith("[") and "] " in msg:  # validator names the offending key
+            key, msg = msg[1:].split("] ", 1)
+            path = f"{path}.{key}" if path else key
+        if "input" in e and e["type"] not in ("missing", "extra_forbidden"):
+            inp = e["input"]
+            if not isinstance(inp, dict | list):
+                msg += f" (got {inp!r})"
+        out.append((path, msg))
+    return out
+
+
+def apply_overrides(data: dict[str, Any], overrides: list[str]) -> dict[str, Any]:
+    """Apply ``key.path=value`` overrides (value parsed as YAML) to a raw deck dict."""
+    for item in overrides:
+        if "=" not in item:
+            raise DeckError([(item, "an override is key.path=value")])
+        key, raw = item.split("=", 1)
+        value = yaml.safe_load(raw)
+        node: Any = data
+        parts = key.strip().split(".")
+        for n, part in enumerate(parts):
+            last = n == len(parts) - 1
+            if isinstance(node, list):
+                try:
+                    idx = int(part)
+                    node[idx]  # noqa: B018 - existence check
+                except (ValueError, IndexError):
+                    raise DeckError([(key, f"no list item {part!r}")]) from None
+                if last:
+                    node[idx] = value
+                else:
+                    node = node[idx]
+            else:
+                if not isinstance(node, dict):
+                    raise DeckError([(key, f"{'.'.join(parts[:n])} is not a section")])
+                if last:
+                    node[part] = value
+                else:
+                    node = node.setdefault(part, {})
+    return data
+
+
+def parse_deck(data: Any, base_dir: Path | None = None) -> Deck:
+    """Validate a raw mapping into a :class:`Deck`; raise :class:`DeckError`."""
+    if not isinstance(data, dict):
+        raise DeckError([("", "a deck is a YAML mapping of sections (name, geometry, ...)")])
+    try:
+        deck = Deck.model_validate(data)
+    except ValidationError as exc:
+        raise DeckError(validation_errors(exc)) from None
+    errors = cross_check(deck)
+    if errors:
+        raise DeckError(errors)
+    if isinstance(deck.geometry, MeshGeometry) and base_dir is not None:
+        path = Path(deck.geometry.file)
+        if not path.is_absolute():
+            path = base_dir / path
+        if not path.exists():
+            raise DeckError([("geometry.file", f"mesh file {str(path)!r} does not exist")])
+        geo = deck.geometry.model_copy(update={"file": str(path)})
+        deck = deck.model_copy(update={"geometry": geo})
+    return deck
+
+
+def load_deck(path: str | Path, overrides: list[str] | None = None) -> Deck:
+    """Read and validate a YAML deck file, applying ``key.path=value`` overrides."""
+    path = Path(path)
+    try:
+        text = path.read_text()
+    except OSError as exc:
+        raise DeckError([("", f"cannot read deck {str(path)!r}: {exc.strerror}")]) from None
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        raise DeckError([("", f"not valid YAML: {exc}")]) from None
+    if overrides:
+        if not isinstance(data, dict):
+            raise DeckError([("", "a deck is a YAML mapping")])
+        data = apply_overrides(data, overrides)
+    return parse_deck(data, base_dir=path.parent)

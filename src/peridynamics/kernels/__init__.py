@@ -1,0 +1,1 @@
+"""Numba kernels over flat bond arrays, each with a NumPy twin in ``reference``."""

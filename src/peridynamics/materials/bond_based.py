@@ -1,0 +1,144 @@
+"""Bond-based prototype microelastic brittle (PMB) / linear microelastic material.
+
+Micromodulus by energy equivalence with the classical strain energy (seed 000 eq. 4,
+seed 003 eq. 7, SPEC.md section 0.1) for a constant profile:
+
+* 1-D bar of area A:          c = 2 E / (A delta^2)
+* 2-D plane stress, thick h:  c = 9 E / (pi h delta^3)       (nu = 1/3 fixed)
+* 2-D plane strain, thick h:  c = 48 E / (5 pi h delta^3)    (nu = 1/4 fixed)
+* 3-D:                        c = 12 E / (pi delta^4)        (nu = 1/4 fixed)
+
+A conical profile ``c(r) = c0 (1 - r/delta)`` keeps the same macroscopic modulus with
+``c0 = (d + 2) * c_constant`` (d the dimension), because the energy moment
+``int_0^1 g(t) t^(d+1) dt`` is ``1/(d+2)`` for g = 1 and ``1/((d+2)(d+3))`` for the cone.
+
+Critical stretch from the fracture energy G0 (Silling & Askari 2005; Ha & Bobaru 2010)
+follows from ``G0 = (s0^2 / 2) K_d int_0^delta c(r) r^(d+1) dr`` with K_1 = A,
+K_2 = 2 h, K_3 = pi; for the constant profile this gives
+``s0 = sqrt(3 G0 / (E delta))`` (1-D), ``sqrt(4 pi G0 / (9 E delta))`` (plane stress),
+``sqrt(5 pi G0 / (12 E delta))`` (plane strain) and ``sqrt(5 G0 / (9 K delta))`` (3-D).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from peridynamics.bonds.bonds import Bonds
+from peridynamics.geometry.cloud import PointCloud
+
+Profile = Literal["constant", "conical"]
+PROFILES: tuple[str, ...] = ("constant", "conical")
+
+
+def fixed_poisson_ratio(dim: int, plane: str | None) -> float | None:
+    """Poisson ratio implied by bond-based PD (None in 1-D, where it plays no role)."""
+    if dim == 1:
+        return None
+    if dim == 2 and plane == "stress":
+        return 1.0 / 3.0
+    return 0.25
+
+
+def _energy_moment(profile: str, dim: int) -> float:
+    """int_0^1 g(t) t^(d+1) dt for the influence profile g."""
+    if profile == "constant":
+        return 1.0 / (dim + 2)
+    return 1.0 / ((dim + 2) * (dim + 3))
+
+
+def _angular_cos4(dim: int) -> float:
+    """Integral of cos^4 over directions: 2 (1-D, two sides), 3 pi / 4 (2-D), 4 pi / 5 (3-D)."""
+    return {1: 2.0, 2: 0.75 * math.pi, 3: 0.8 * math.pi}[dim]
+
+
+@dataclass(frozen=True)
+class BondBasedMaterial:
+    """PMB / linear microelastic bond material.
+
+    Parameters
+    ----------
+    youngs_modulus : float
+        E (Pa), > 0.
+    density : float
+        rho (kg/m^3), > 0.
+    profile : {"constant", "conical"}
+        Micromodulus profile over the horizon.
+    """
+
+    youngs_modulus: float
+    density: float
+    profile: Profile = "constant"
+
+    def __post_init__(self) -> None:
+        if not (self.youngs_modulus > 0 and math.isfinite(self.youngs_modulus)):
+            raise ValueError(f"youngs_modulus must be a finite value > 0 Pa, got {self.youngs_modulus}")
+        if not (self.density > 0 and math.isfinite(self.density)):
+            raise ValueError(f"density must be a finite value > 0 kg/m^3, got {self.density}")
+        if self.profile not in PROFILES:
+            raise ValueError(f"unknown micromodulus profile {self.profile!r}; use one of {PROFILES}")
+
+    # -- calibration ---------------------------------------------------------------
+    def micromodulus_constant(self, dim: int, horizon: float, cross_section: float,
+                              plane: str | None) -> float:
+        """Constant-profile micromodulus c (N/m^6), SPEC.md section 0.1."""
+        E, d = self.youngs_modulus, horizon
+        if dim == 1:
+            return 2.0 * E / (cross_section * d**2)
+        if dim == 2:
+            if plane == "strain":
+                return 48.0 * E / (5.0 * math.pi * cross_section * d**3)
+            return 9.0 * E / (math.pi * cross_section * d**3)
+        return 12.0 * E / (math.pi * d**4)
+
+    def micromodulus(self, length: NDArray[np.float64], dim: int, horizon: float,
+                     cross_section: float, plane: str | None) -> NDArray[np.float64]:
+        """c(|xi|) for each bond length (N/m^6), shape like ``length``."""
+        c = self.micromodulus_constant(dim, horizon, cross_section, plane)
+        if self.profile == "constant":
+            return np.full(np.shape(length), c)
+        return (dim + 2) * c * np.clip(1.0 - np.asarray(length) / horizon, 0.0, None)
+
+    def bond_stiffness(self, cloud: PointCloud, bonds: Bonds,
+                       corrected: bool = True) -> NDArray[np.float64]:
+        """stiffness_k = c(|xi_k|) * beta_k V_j * lambda_k (N/m^3 per unit stretch)."""
+        c = self.micromodulus(bonds.bond_length, cloud.dim, bonds.horizon,
+                              cloud.cross_section, cloud.plane)
+        k = c * bonds.bond_volume
+        return k * bonds.bond_correction if corrected else k
+
+    def _cross_factor(self, dim: int, cross_section: float) -> float:
+        return {1: cross_section, 2: cross_section, 3: 1.0}[dim]
+
+    def uniaxial_energy_density(self, strain: float, dim: int, horizon: float,
+                                cross_section: float, plane: str | None) -> float:
+        """Continuum (exact-integral) W for uniaxial strain in the infinite body (J/m^3).
+
+        W = 1/4 eps^2 [int cos^4 dOmega] K int_0^delta c(r) r^d dr; equals E eps^2/2 in
+        1-D, 9 E eps^2 / 16 in plane stress and 0.6 E eps^2 in 3-D.
+        """
+        c0 = self.micromodulus_constant(dim, horizon, cross_section, plane)
+        scale = 1.0 if self.profile == "constant" else float(dim + 2)
+        moment = horizon ** (dim + 1) * (1.0 / (dim + 1) if self.profile == "constant"
+                                         else 1.0 / ((dim + 1) * (dim + 2)))
+        return (0.25 * strain**2 * _angular_cos4(dim) * self._cross_factor(dim, cross_section)
+                * scale * c0 * moment)
+
+    def critical_stretch(self, fracture_energy: float, dim: int, horizon: float,
+                         cross_section: float, plane: str | None) -> float:
+        """s0 from G0 (J/m^2), see the module docstring."""
+        if not fracture_energy > 0:
+            raise ValueError(f"fracture_energy must be > 0 J/m^2, got {fracture_energy}")
+        c0 = self.micromodulus_constant(dim, horizon, cross_section, plane)
+        scale = 1.0 if self.profile == "constant" else float(dim + 2)
+        k_d = {1: cross_section, 2: 2.0 * cross_section, 3: math.pi}[dim]
+        integral = scale * c0 * horizon ** (dim + 2) * _energy_moment(self.profile, dim)
+        return math.sqrt(2.0 * fracture_energy / (k_d * integral))
+
+    def wave_speed(self) -> float:
+        """Bar wave speed sqrt(E / rho) (m/s)."""
+        return math.sqrt(self.youngs_modulus / self.density)

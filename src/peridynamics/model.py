@@ -1,0 +1,123 @@
+"""The model evaluator: owns the physics order of one force evaluation.
+
+Order (ARCHITECTURE.md): damage (bond breaking) -> bond forces -> external loads.
+Solvers never compute physics; they call :meth:`Model.internal_force` and
+:meth:`Model.external_force`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from peridynamics.bonds.bonds import Bonds
+from peridynamics.bonds.surface import energy_correction_factors
+from peridynamics.damage.critical_stretch import NO_DAMAGE, CriticalStretch, family_minimum
+from peridynamics.geometry.cloud import PointCloud
+from peridynamics.kernels import bond_based
+from peridynamics.loading.conditions import BodyForce
+from peridynamics.materials.bond_based import BondBasedMaterial
+
+
+@dataclass
+class Model:
+    """Bond-based peridynamic model of one body.
+
+    Parameters
+    ----------
+    cloud : PointCloud
+    bonds : Bonds
+    material : BondBasedMaterial
+    damage : CriticalStretch
+        ``NO_DAMAGE`` keeps every bond.
+    body_forces : sequence of BodyForce
+        Force-like loads (body forces, tractions spread over a layer).
+    surface_correction : bool
+        Apply the energy-method surface correction (Madenci & Oterkus 2014).
+    """
+
+    cloud: PointCloud
+    bonds: Bonds
+    material: BondBasedMaterial
+    damage: CriticalStretch = NO_DAMAGE
+    body_forces: Sequence[BodyForce] = ()
+    surface_correction: bool = False
+    stiffness: NDArray[np.float64] = field(init=False, repr=False)
+    point_s0: NDArray[np.float64] = field(init=False, repr=False)
+    family_s0_min: NDArray[np.float64] = field(init=False, repr=False)
+    density: NDArray[np.float64] = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        c = self.cloud
+        if self.surface_correction:
+            raw = self.material.bond_stiffness(c, self.bonds, corrected=False)
+            w_inf = self.material.uniaxial_energy_density(
+                1e-3, c.dim, self.bonds.horizon, c.cross_section, c.plane
+            )
+            factors = energy_correction_factors(c.x, self.bonds, raw, w_inf, strain=1e-3)
+            self.bonds = self.bonds.with_correction(factors)
+        self.stiffness = self.material.bond_stiffness(c, self.bonds)
+        self.point_s0 = self.damage.point_threshold(c.n_points)
+        self.family_s0_min = family_minimum(self.bonds, self.point_s0)
+        self.density = np.full(c.n_points, self.material.density)
+        self._force_kernel = bond_based.FORCE_KERNELS[c.dim]
+
+    @property
+    def dim(self) -> int:
+        """Spatial dimension."""
+        return self.cloud.dim
+
+    @property
+    def n_points(self) -> int:
+        """Number of points."""
+        return self.cloud.n_points
+
+    def internal_force(self, u: NDArray, intact: NDArray[np.uint8], force: NDArray,
+                       max_stretch: NDArray) -> int:
+        """Break bonds, then fill ``force`` (n, dim) with the bond force density (N/m^3).
+
+        ``intact`` (n_bonds,) is updated in place; ``max_stretch`` (n,) receives the
+        largest stretch of an intact bond per point. Returns the number of bonds broken.
+        """
+        b = self.bonds
+        return int(self._force_kernel(self.cloud.x, u, b.offsets, b.bond_j, b.bond_length,
+                                      self.stiffness, intact, self.point_s0,
+                                      self.family_s0_min, force, max_stretch))
+
+    def external_force(self, t: float, out: NDArray) -> None:
+        """Fill ``out`` (n, dim) with the external body-force density at time t (N/m^3)."""
+        out.fill(0.0)
+        for load in self.body_forces:
+            load.add_to(out, t)
+
+    def strain_energy_density(self, u: NDArray, intact: NDArray[np.uint8]) -> NDArray:
+        """W_i (J/m^3), shape (n,)."""
+        b = self.bonds
+        out = np.empty(self.n_points)
+        bond_based.strain_energy_density(self.cloud.x, u, b.offsets, b.bond_j, b.bond_length,
+                                         self.stiffness, intact, out)
+        return out
+
+    def strain_energy(self, u: NDArray, intact: NDArray[np.uint8]) -> float:
+        """Total strain energy sum W_i V_i (J)."""
+        return float(self.strain_energy_density(u, intact) @ self.cloud.volume)
+
+    def kinetic_energy(self, v: NDArray) -> float:
+        """Total kinetic energy 1/2 sum rho_i V_i |v_i|^2 (J)."""
+        return float(0.5 * np.sum(self.density * self.cloud.volume * np.sum(v * v, axis=1)))
+
+    def point_damage(self, intact: NDArray[np.uint8]) -> NDArray:
+        """Local damage phi (seed 000 eq. 7), shape (n,)."""
+        out = np.empty(self.n_points)
+        bond_based.damage(self.bonds.offsets, self.bonds.bond_volume, intact, out)
+        return out
+
+    def stable_time_step(self) -> float:
+        """Largest stable explicit step, min over points of Silling & Askari's bound (s)."""
+        out = np.empty(self.n_points)
+        bond_based.stable_time_step_per_point(self.bonds.offsets, self.bonds.bond_length,
+                                              self.stiffness, self.density, out)
+        return float(out.min())

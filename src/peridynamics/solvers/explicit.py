@@ -1,0 +1,202 @@
+"""Explicit dynamics: velocity Verlet (seed 001 eq. 12) and central difference (seed 000 eq. 10).
+
+Both integrators share one shape: ``init() -> State``, ``step(state) -> State``, the
+generator ``irun(state, n_steps)`` and ``run(...)``. The stable step is Silling &
+Askari's (2005) bound ``dt_i = sqrt(2 rho / sum_k stiffness_k / |xi_k|)`` minimised over
+points (SPEC.md section 0.3); a user step above it is refused unless
+``allow_unstable=True``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from peridynamics.kernels import integrators
+from peridynamics.loading.conditions import (
+    Fixed,
+    InitialVelocity,
+    PrescribedDisplacement,
+    PrescribedVelocity,
+)
+from peridynamics.model import Model
+from peridynamics.solvers.state import State
+
+Integrator = Literal["velocity_verlet", "central_difference"]
+INTEGRATORS: tuple[str, ...] = ("velocity_verlet", "central_difference")
+
+
+class SimulationUnstable(RuntimeError):
+    """Raised when the solution becomes non-finite or blows up.
+
+    Attributes: step, time (s), point (index), coordinates (m), last_good (State).
+    """
+
+    def __init__(self, message: str, step: int, time: float, point: int,
+                 coordinates: list[float], last_good: State | None) -> None:
+        super().__init__(message)
+        self.step = step
+        self.time = time
+        self.point = point
+        self.coordinates = coordinates
+        self.last_good = last_good
+
+
+class UnstableTimeStep(ValueError):
+    """A user time step above the stable limit."""
+
+
+@dataclass
+class ExplicitSolver:
+    """Explicit time integration of a :class:`~peridynamics.model.Model`.
+
+    Parameters
+    ----------
+    model : Model
+    time_step : float, optional
+        dt (s); default ``safety_factor * stable_time_step``.
+    integrator : {"velocity_verlet", "central_difference"}
+    constraints : kinematic conditions (prescribed displacement / velocity, fixed).
+    initial_velocities : conditions applied once at t = 0.
+    safety_factor : float
+        Fraction of the stable step used when ``time_step`` is not given.
+    allow_unstable : bool
+        Accept a ``time_step`` above the stable limit.
+    blowup_factor : float
+        A displacement larger than ``blowup_factor * model size`` stops the run.
+    check_every : int
+        Steps between finiteness / blow-up checks.
+    """
+
+    model: Model
+    time_step: float | None = None
+    integrator: Integrator = "velocity_verlet"
+    constraints: Sequence[PrescribedDisplacement | PrescribedVelocity | Fixed] = ()
+    initial_velocities: Sequence[InitialVelocity] = ()
+    safety_factor: float = 0.8
+    allow_unstable: bool = False
+    blowup_factor: float = 1.0
+    check_every: int = 10
+
+    def __post_init__(self) -> None:
+        if self.integrator not in INTEGRATORS:
+            raise ValueError(f"unknown integrator {self.integrator!r}; use one of {INTEGRATORS}")
+        if not 0 < self.safety_factor <= 1:
+            raise ValueError("safety_factor must be in (0, 1]")
+        self.stable_time_step = self.model.stable_time_step()
+        if self.time_step is None:
+            self.dt = self.safety_factor * self.stable_time_step
+        else:
+            if not self.time_step > 0:
+                raise ValueError(f"time_step must be > 0 s, got {self.time_step}")
+            if self.time_step > self.stable_time_step and not self.allow_unstable:
+                raise UnstableTimeStep(
+                    f"solver.time_step = {self.time_step:.6g} s is above the stable limit "
+                    f"{self.stable_time_step:.6g} s (Silling & Askari 2005); use a smaller "
+                    "time_step, leave it out to get "
+                    f"{self.safety_factor} x the limit, or set allow_unstable: true"
+                )
+            self.dt = float(self.time_step)
+        self._inv_rho = 1.0 / self.model.density
+        self._last_good: State | None = None
+
+    # -- life cycle --------------------------------------------------------------
+    def init(self) -> State:
+        """State at t = 0: initial velocities, constraints, forces."""
+        m = self.model
+        n, d = m.n_points, m.dim
+        s = State(t=0.0, step=0, u=np.zeros((n, d)), v=np.zeros((n, d)),
+                  force=np.zeros((n, d)), body=np.zeros((n, d)), u_prev=np.zeros((n, d)),
+                  intact=m.bonds.bond_intact.copy(), max_stretch=np.zeros(n))
+        for iv in self.initial_velocities:
+            iv.apply_initial(s.v)
+        self._apply_constraints(s, 0.0)
+        s.bonds_broken += m.internal_force(s.u, s.intact, s.force, s.max_stretch)
+        m.external_force(0.0, s.body)
+        if self.integrator == "central_difference":
+            # u(-dt) from a Taylor step so that u(dt) = u0 + dt v0 + dt^2/2 a0
+            a0 = (s.force + s.body) * self._inv_rho[:, None]
+            s.u_prev[:] = s.u - self.dt * s.v + 0.5 * self.dt**2 * a0
+        self._last_good = s.copy()
+        return s
+
+    def _apply_constraints(self, s: State, t: float) -> None:
+        for c in self.constraints:
+            if isinstance(c, PrescribedVelocity) and t == 0.0:
+                c.set_velocity(s.v, 0.0)
+            elif not isinstance(c, PrescribedVelocity):
+                c.apply(s.u, s.v, t, self.dt)
+
+    def step(self, s: State) -> State:
+        """Advance one step in place and return the state."""
+        m, dt = self.model, self.dt
+        t_new = (s.step + 1) * dt
+        if self.integrator == "velocity_verlet":
+            integrators.kick_drift(s.u, s.v, s.force, s.body, self._inv_rho, dt)
+        else:
+            integrators.central_difference(s.u, s.u_prev, s.v, s.force, s.body,
+                                           self._inv_rho, dt)
+        for c in self.constraints:
+            c.apply(s.u, s.v, t_new, dt)
+        s.bonds_broken += m.internal_force(s.u, s.intact, s.force, s.max_stretch)
+        m.external_force(t_new, s.body)
+        if self.integrator == "velocity_verlet":
+            integrators.kick(s.v, s.force, s.body, self._inv_rho, dt)
+            for c in self.constraints:
+                if isinstance(c, PrescribedVelocity):
+                    c.set_velocity(s.v, t_new)
+                elif isinstance(c, Fixed):
+                    c.apply(s.u, s.v, t_new, dt)
+        s.step += 1
+        s.t = t_new
+        if s.step % self.check_every == 0:
+            self.check(s)
+        return s
+
+    def check(self, s: State) -> None:
+        """Stop with :class:`SimulationUnstable` on NaN/inf or blow-up; keep a good copy."""
+        limit = self.blowup_factor * self.model.cloud.size
+        mag = np.abs(s.u).max(axis=1)
+        bad = ~np.isfinite(mag) | (mag > limit)
+        bad |= ~np.all(np.isfinite(s.v), axis=1)
+        if np.any(bad):
+            k = int(np.flatnonzero(bad)[0])
+            coords = self.model.cloud.x[k].tolist()
+            what = "non-finite" if not np.isfinite(mag[k]) else f"|u| = {mag[k]:.3g} m"
+            raise SimulationUnstable(
+                f"the run went unstable at step {s.step}, t = {s.t:.6g} s: point {k} at "
+                f"{coords} has {what} (limit {limit:.3g} m = {self.blowup_factor} x model "
+                f"size). Reduce the time step (now {self.dt:.3g} s, stable limit "
+                f"{self.stable_time_step:.3g} s) or check the loads.",
+                step=s.step, time=s.t, point=k, coordinates=coords, last_good=self._last_good,
+            )
+        self._last_good = s.copy()
+
+    def irun(self, s: State, n_steps: int) -> Iterator[State]:
+        """Yield the state after each of ``n_steps`` steps."""
+        for _ in range(n_steps):
+            yield self.step(s)
+
+    def run(self, s: State, n_steps: int) -> State:
+        """Advance ``n_steps`` steps and return the state."""
+        for _ in self.irun(s, n_steps):
+            pass
+        return s
+
+    def steps_for(self, end_time: float) -> int:
+        """Number of steps to reach ``end_time`` (s), rounded to the nearest step."""
+        return int(np.ceil(end_time / self.dt - 1e-9))
+
+
+def total_energy(model: Model, s: State) -> tuple[float, float]:
+    """(kinetic, strain) energy of a state (J)."""
+    return model.kinetic_energy(s.v), model.strain_energy(s.u, s.intact)
+
+
+def positions(model: Model, s: State) -> NDArray[np.float64]:
+    """Current positions x + u, shape (n, dim) (m)."""
+    return model.cloud.x + s.u
