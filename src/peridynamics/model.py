@@ -49,6 +49,7 @@ class Model:
     point_s0: NDArray[np.float64] = field(init=False, repr=False)
     family_s0_min: NDArray[np.float64] = field(init=False, repr=False)
     density: NDArray[np.float64] = field(init=False, repr=False)
+    inv_length: NDArray[np.float64] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         c = self.cloud
@@ -60,6 +61,7 @@ class Model:
             factors = energy_correction_factors(c.x, self.bonds, raw, w_inf, strain=1e-3)
             self.bonds = self.bonds.with_correction(factors)
         self.stiffness = self.material.bond_stiffness(c, self.bonds)
+        self.inv_length = 1.0 / self.bonds.bond_length
         self.point_s0 = self.damage.point_threshold(c.n_points)
         self.family_s0_min = family_minimum(self.bonds, self.point_s0)
         self.density = np.full(c.n_points, self.material.density)
@@ -80,10 +82,11 @@ class Model:
         """Break bonds, then fill ``force`` (n, dim) with the bond force density (N/m^3).
 
         ``intact`` (n_bonds,) is updated in place; ``max_stretch`` (n,) receives the
-        largest stretch of an intact bond per point. Returns the number of bonds broken.
+        largest tensile stretch of an intact bond per point (0 if none is stretched).
+        Returns the number of directed bonds broken.
         """
         b = self.bonds
-        return int(self._force_kernel(self.cloud.x, u, b.offsets, b.bond_j, b.bond_length,
+        return int(self._force_kernel(self.cloud.x, u, b.offsets, b.bond_j, self.inv_length,
                                       self.stiffness, intact, self.point_s0,
                                       self.family_s0_min, force, max_stretch))
 

@@ -27,71 +27,67 @@ import numpy as np
 from numba import njit, prange
 
 _JIT = dict(parallel=True, fastmath=True, error_model="numpy", cache=True)
-_NEG = -1.0e300  # stretch reported for broken bonds (below any threshold)
 
 
 @njit(inline="always")
-def _family_1d(i, x, u, offsets, bond_j, length, stiffness, intact):
+def _family_1d(i, x, u, offsets, bond_j, inv_length, stiffness, intact):
     f0 = 0.0
-    smax = _NEG
+    smax = 0.0
     for k in range(offsets[i], offsets[i + 1]):
         j = bond_j[k]
         e0 = (x[j, 0] - x[i, 0]) + (u[j, 0] - u[i, 0])
         r = np.abs(e0)
-        s = (r - length[k]) / length[k]
         m = intact[k]
-        g = stiffness[k] * s * m / r
+        g = stiffness[k] * m * (inv_length[k] - 1.0 / r)  # = c V mu s / r
         f0 += g * e0
-        smax = max(smax, s if m else _NEG)
+        smax = max(smax, (r * inv_length[k] - 1.0) * m)
     return f0, smax
 
 
 @njit(inline="always")
-def _family_2d(i, x, u, offsets, bond_j, length, stiffness, intact):
+def _family_2d(i, x, u, offsets, bond_j, inv_length, stiffness, intact):
     x0, x1, u0, u1 = x[i, 0], x[i, 1], u[i, 0], u[i, 1]
     f0 = 0.0
     f1 = 0.0
-    smax = _NEG
+    smax = 0.0
     for k in range(offsets[i], offsets[i + 1]):
         j = bond_j[k]
         e0 = (x[j, 0] - x0) + (u[j, 0] - u0)
         e1 = (x[j, 1] - x1) + (u[j, 1] - u1)
         r = np.sqrt(e0 * e0 + e1 * e1)
-        s = (r - length[k]) / length[k]
         m = intact[k]
-        g = stiffness[k] * s * m / r
+        g = stiffness[k] * m * (inv_length[k] - 1.0 / r)  # = c V mu s / r
         f0 += g * e0
         f1 += g * e1
-        smax = max(smax, s if m else _NEG)
+        smax = max(smax, (r * inv_length[k] - 1.0) * m)
     return f0, f1, smax
 
 
 @njit(inline="always")
-def _family_3d(i, x, u, offsets, bond_j, length, stiffness, intact):
+def _family_3d(i, x, u, offsets, bond_j, inv_length, stiffness, intact):
     x0, x1, x2 = x[i, 0], x[i, 1], x[i, 2]
     u0, u1, u2 = u[i, 0], u[i, 1], u[i, 2]
     f0 = 0.0
     f1 = 0.0
     f2 = 0.0
-    smax = _NEG
+    smax = 0.0
     for k in range(offsets[i], offsets[i + 1]):
         j = bond_j[k]
         e0 = (x[j, 0] - x0) + (u[j, 0] - u0)
         e1 = (x[j, 1] - x1) + (u[j, 1] - u1)
         e2 = (x[j, 2] - x2) + (u[j, 2] - u2)
         r = np.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
-        s = (r - length[k]) / length[k]
         m = intact[k]
-        g = stiffness[k] * s * m / r
+        g = stiffness[k] * m * (inv_length[k] - 1.0 / r)  # = c V mu s / r
         f0 += g * e0
         f1 += g * e1
         f2 += g * e2
-        smax = max(smax, s if m else _NEG)
+        smax = max(smax, (r * inv_length[k] - 1.0) * m)
     return f0, f1, f2, smax
 
 
 @njit(inline="always")
-def _break_family(i, x, u, offsets, bond_j, length, intact, s0):
+def _break_family(i, x, u, offsets, bond_j, inv_length, intact, s0):
     """Break the bonds of point ``i`` whose stretch reaches (s0_i + s0_j) / 2.
 
     A scalar loop (never vectorised) so that point ``i`` and point ``j`` take the same
@@ -107,7 +103,7 @@ def _break_family(i, x, u, offsets, bond_j, length, intact, s0):
         for c in range(d):
             e = (x[j, c] - x[i, c]) + (u[j, c] - u[i, c])
             r2 += e * e
-        s = (np.sqrt(r2) - length[k]) / length[k]
+        s = np.sqrt(r2) * inv_length[k] - 1.0
         if s >= 0.5 * (s0[i] + s0[j]):
             intact[k] = 0
             broken += 1
@@ -115,17 +111,18 @@ def _break_family(i, x, u, offsets, bond_j, length, intact, s0):
 
 
 @njit(**_JIT)
-def force_1d(x, u, offsets, bond_j, length, stiffness, intact, s0, s0_min, force, smax_out):
+def force_1d(x, u, offsets, bond_j, inv_length, stiffness, intact, s0, s0_min, force, smax_out):
     """1-D bond force density (N/m^3) with bond breaking; see the module docstring.
 
     Parameters
     ----------
     x, u : (n, 1) reference positions and displacements (m).
-    offsets : (n + 1,) CSR offsets; bond_j, length, stiffness, intact : (n_bonds,).
+    offsets : (n + 1,) CSR offsets; bond_j, inv_length (1/|xi|, 1/m), stiffness,
+        intact : (n_bonds,).
     s0 : (n,) point critical stretch (``inf`` = never fails).
     s0_min : (n,) smallest bond critical stretch in each family (a cheap filter).
-    force : (n, 1) output force density; smax_out : (n,) output largest stretch of an
-        intact bond (-1e300 when none is intact).
+    force : (n, 1) output force density; smax_out : (n,) output largest tensile stretch
+        of an intact bond (0 when none is stretched).
 
     Returns
     -------
@@ -134,29 +131,29 @@ def force_1d(x, u, offsets, bond_j, length, stiffness, intact, s0, s0_min, force
     n = x.shape[0]
     nbroken = np.zeros(n, dtype=np.int64)
     for i in prange(n):
-        f0, smax = _family_1d(i, x, u, offsets, bond_j, length, stiffness, intact)
+        f0, smax = _family_1d(i, x, u, offsets, bond_j, inv_length, stiffness, intact)
         if smax >= s0_min[i]:
-            nb = _break_family(i, x, u, offsets, bond_j, length, intact, s0)
+            nb = _break_family(i, x, u, offsets, bond_j, inv_length, intact, s0)
             if nb > 0:
                 nbroken[i] = nb
-                f0, smax = _family_1d(i, x, u, offsets, bond_j, length, stiffness, intact)
+                f0, smax = _family_1d(i, x, u, offsets, bond_j, inv_length, stiffness, intact)
         force[i, 0] = f0
         smax_out[i] = smax
     return nbroken.sum()
 
 
 @njit(**_JIT)
-def force_2d(x, u, offsets, bond_j, length, stiffness, intact, s0, s0_min, force, smax_out):
+def force_2d(x, u, offsets, bond_j, inv_length, stiffness, intact, s0, s0_min, force, smax_out):
     """2-D bond force density (N/m^3) with bond breaking; arguments as :func:`force_1d`."""
     n = x.shape[0]
     nbroken = np.zeros(n, dtype=np.int64)
     for i in prange(n):
-        f0, f1, smax = _family_2d(i, x, u, offsets, bond_j, length, stiffness, intact)
+        f0, f1, smax = _family_2d(i, x, u, offsets, bond_j, inv_length, stiffness, intact)
         if smax >= s0_min[i]:
-            nb = _break_family(i, x, u, offsets, bond_j, length, intact, s0)
+            nb = _break_family(i, x, u, offsets, bond_j, inv_length, intact, s0)
             if nb > 0:
                 nbroken[i] = nb
-                f0, f1, smax = _family_2d(i, x, u, offsets, bond_j, length, stiffness, intact)
+                f0, f1, smax = _family_2d(i, x, u, offsets, bond_j, inv_length, stiffness, intact)
         force[i, 0] = f0
         force[i, 1] = f1
         smax_out[i] = smax
@@ -164,18 +161,18 @@ def force_2d(x, u, offsets, bond_j, length, stiffness, intact, s0, s0_min, force
 
 
 @njit(**_JIT)
-def force_3d(x, u, offsets, bond_j, length, stiffness, intact, s0, s0_min, force, smax_out):
+def force_3d(x, u, offsets, bond_j, inv_length, stiffness, intact, s0, s0_min, force, smax_out):
     """3-D bond force density (N/m^3) with bond breaking; arguments as :func:`force_1d`."""
     n = x.shape[0]
     nbroken = np.zeros(n, dtype=np.int64)
     for i in prange(n):
-        f0, f1, f2, smax = _family_3d(i, x, u, offsets, bond_j, length, stiffness, intact)
+        f0, f1, f2, smax = _family_3d(i, x, u, offsets, bond_j, inv_length, stiffness, intact)
         if smax >= s0_min[i]:
-            nb = _break_family(i, x, u, offsets, bond_j, length, intact, s0)
+            nb = _break_family(i, x, u, offsets, bond_j, inv_length, intact, s0)
             if nb > 0:
                 nbroken[i] = nb
                 f0, f1, f2, smax = _family_3d(
-                    i, x, u, offsets, bond_j, length, stiffness, intact
+                    i, x, u, offsets, bond_j, inv_length, stiffness, intact
                 )
         force[i, 0] = f0
         force[i, 1] = f1
@@ -216,6 +213,20 @@ def strain_energy_density(x, u, offsets, bond_j, length, stiffness, intact, out)
             s = (np.sqrt(r2) - length[k]) / length[k]
             w += stiffness[k] * intact[k] * s * s * length[k]
         out[i] = 0.25 * w
+
+
+@njit(**_JIT)
+def first_bad_point(u, v, limit):
+    """Index of the first point with non-finite u or v or |u_c| > limit, else -1."""
+    n, d = u.shape
+    bad = np.full(n, n, dtype=np.int64)
+    for i in prange(n):
+        for c in range(d):
+            a = u[i, c]
+            if not (np.isfinite(a) and np.isfinite(v[i, c]) and abs(a) <= limit):
+                bad[i] = i
+    k = bad.min()
+    return k if k < n else -1
 
 
 @njit(**_JIT)

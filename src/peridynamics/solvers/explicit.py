@@ -16,7 +16,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from peridynamics.kernels import integrators
+from peridynamics.kernels import bond_based, integrators
 from peridynamics.loading.conditions import (
     Fixed,
     InitialVelocity,
@@ -158,15 +158,17 @@ class ExplicitSolver:
         return s
 
     def check(self, s: State) -> None:
-        """Stop with :class:`SimulationUnstable` on NaN/inf or blow-up; keep a good copy."""
+        """Stop with :class:`SimulationUnstable` on NaN/inf or blow-up.
+
+        A passing check keeps a copy of u and v (the "last good" frame; the other
+        arrays of that copy are shared with the live state).
+        """
         limit = self.blowup_factor * self.model.cloud.size
-        mag = np.abs(s.u).max(axis=1)
-        bad = ~np.isfinite(mag) | (mag > limit)
-        bad |= ~np.all(np.isfinite(s.v), axis=1)
-        if np.any(bad):
-            k = int(np.flatnonzero(bad)[0])
+        k = int(bond_based.first_bad_point(s.u, s.v, limit))
+        if k >= 0:
             coords = self.model.cloud.x[k].tolist()
-            what = "non-finite" if not np.isfinite(mag[k]) else f"|u| = {mag[k]:.3g} m"
+            mag = float(np.abs(s.u[k]).max())
+            what = "a non-finite value" if not np.isfinite(mag) else f"|u| = {mag:.3g} m"
             raise SimulationUnstable(
                 f"the run went unstable at step {s.step}, t = {s.t:.6g} s: point {k} at "
                 f"{coords} has {what} (limit {limit:.3g} m = {self.blowup_factor} x model "
@@ -174,7 +176,13 @@ class ExplicitSolver:
                 f"{self.stable_time_step:.3g} s) or check the loads.",
                 step=s.step, time=s.t, point=k, coordinates=coords, last_good=self._last_good,
             )
-        self._last_good = s.copy()
+        good = self._last_good
+        if good is None or good.u.shape != s.u.shape:
+            self._last_good = s.copy()
+        else:
+            good.u[:] = s.u
+            good.v[:] = s.v
+            good.t, good.step = s.t, s.step
 
     def irun(self, s: State, n_steps: int) -> Iterator[State]:
         """Yield the state after each of ``n_steps`` steps."""
