@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -37,6 +38,9 @@ from peridynamics.solvers.explicit import ExplicitSolver, SimulationUnstable
 from peridynamics.solvers.state import State
 
 COMP = {"x": 0, "y": 1, "z": 2}
+#: Tests set PERIDYNAMICS_CRASH_AT_STEP to kill the process (exit 137, no clean-up) at a
+#: given step, a deterministic stand-in for a power cut; unset in normal use.
+_CRASH_AT_STEP = int(os.environ.get("PERIDYNAMICS_CRASH_AT_STEP", "-1"))
 
 
 class SetupError(ValueError):
@@ -80,7 +84,7 @@ def build_cloud(deck: dk.Deck) -> PointCloud:
         visiting.add(name)
         spec = deck.node_sets[name]
         _collect_refs(spec, resolve)
-        idx = cloud.select(to_region(spec, sets))
+        idx = cloud.select(to_region(spec, sets, cloud.spacing))
         if idx.size == 0:
             raise SetupError(f"node_sets.{name}",
                              "selects no point; check the region against the geometry "
@@ -334,6 +338,8 @@ class Simulation:
                         self._frame(out, state, recorder.records)
                     if checkpoint_every and state.step % checkpoint_every == 0:
                         write_checkpoint(out, state, recorder.records, self.fingerprint())
+                    if state.step == _CRASH_AT_STEP:  # test hook: a hard crash mid-run
+                        os._exit(137)
                     if state.step % 50 == 0 or state.step == n_total:
                         bar.update(state.step)
         except SimulationUnstable as exc:

@@ -10,6 +10,7 @@ from peridynamics.geometry.regions import (
     CylinderRegion,
     Everywhere,
     HalfSpace,
+    Layer,
     NearestPoint,
     Polygon,
     Region,
@@ -17,7 +18,7 @@ from peridynamics.geometry.regions import (
 )
 
 __all__ = [
-    "Ball", "Box", "Circle", "CylinderRegion", "Everywhere", "HalfSpace", "NearestPoint",
+    "Ball", "Box", "Circle", "CylinderRegion", "Everywhere", "HalfSpace", "Layer", "NearestPoint",
     "PointCloud", "Polygon", "Region", "Sphere", "bar", "box", "cylinder", "from_mesh",
     "rectangle",
 ]

@@ -226,3 +226,31 @@ class NearestPoint(Region):
         if len(x):
             out[int(np.argmin(np.sum((x - np.asarray(self.location)) ** 2, axis=1)))] = True
         return out
+
+
+@dataclass(frozen=True, init=False)
+class Layer(Region):
+    """The outermost layer of the body on the side of ``normal``.
+
+    Selects points whose projection on the unit ``normal`` lies within ``depth`` (m) of
+    the largest projection over all points passed to :meth:`mask` (the body's surface).
+    With ``depth = k * spacing`` on a grid this is exactly ``k`` rows at any resolution.
+    """
+
+    normal: tuple[float, ...]
+    depth: float
+
+    def __init__(self, normal: ArrayLike, depth: float) -> None:
+        n = _vec(normal)
+        if not np.any(n):
+            raise ValueError("normal must be non-zero")
+        if not depth > 0:
+            raise ValueError("depth must be > 0")
+        object.__setattr__(self, "normal", tuple((n / np.linalg.norm(n)).tolist()))
+        object.__setattr__(self, "depth", float(depth))
+
+    def mask(self, x: NDArray[np.float64]) -> BoolArray:
+        proj = x @ np.asarray(self.normal)
+        if proj.size == 0:
+            return np.zeros(0, dtype=bool)
+        return proj > proj.max() - self.depth * (1.0 - 1e-6)

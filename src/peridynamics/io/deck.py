@@ -89,6 +89,13 @@ class HalfSpaceRegion(Strict):
     normal: list[Finite]
 
 
+class EdgeRegion(Strict):
+    """The outermost ``layers`` grid rows on the side the outward ``normal`` points to."""
+
+    normal: list[Finite]
+    layers: Annotated[int, Field(ge=1)] = 1
+
+
 class RegionSpec(Strict):
     """Exactly one of the keys below."""
 
@@ -99,6 +106,7 @@ class RegionSpec(Strict):
     cylinder: CylinderRegionSpec | None = None
     polygon: PolygonRegion | None = None
     half_space: HalfSpaceRegion | None = None
+    edge: EdgeRegion | None = None
     point: list[Finite] | None = None
     everywhere: Literal[True] | None = None
     set: str | None = None
@@ -505,6 +513,10 @@ def _check_region(errors: list, path: str, r: RegionSpec, dim: int, sets: set[st
         _check_len(errors, f"{path}.half_space.normal", val.normal, dim)
         if not any(val.normal):
             errors.append((f"{path}.half_space.normal", "must be non-zero"))
+    elif k == "edge":
+        _check_len(errors, f"{path}.edge.normal", val.normal, dim)
+        if not any(val.normal):
+            errors.append((f"{path}.edge.normal", "must be non-zero"))
     elif k == "point":
         _check_len(errors, f"{path}.point", val, dim)
     elif k == "set":

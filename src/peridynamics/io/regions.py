@@ -22,8 +22,10 @@ class _Indices(rg.Region):
         return out
 
 
-def to_region(spec: RegionSpec, known_sets: Mapping[str, np.ndarray] | None = None) -> rg.Region:
-    """Build a region from a validated spec; ``set`` refers to ``known_sets``."""
+def to_region(spec: RegionSpec, known_sets: Mapping[str, np.ndarray] | None = None,
+              spacing: float = 0.0) -> rg.Region:
+    """Build a region from a validated spec; ``set`` refers to ``known_sets``;
+    ``spacing`` (m) sizes ``edge`` layers."""
     k = spec.kind()
     v = getattr(spec, k)
     if k == "box":
@@ -36,6 +38,10 @@ def to_region(spec: RegionSpec, known_sets: Mapping[str, np.ndarray] | None = No
         return rg.Polygon(v.vertices)
     if k == "half_space":
         return rg.HalfSpace(v.point, v.normal)
+    if k == "edge":
+        if not spacing > 0:
+            raise ValueError("edge regions need the grid spacing")
+        return rg.Layer(v.normal, v.layers * spacing)
     if k == "point":
         return rg.NearestPoint(v)
     if k == "everywhere":
@@ -44,7 +50,7 @@ def to_region(spec: RegionSpec, known_sets: Mapping[str, np.ndarray] | None = No
         if known_sets is None or v not in known_sets:
             raise KeyError(f"node set {v!r} is not defined before it is used")
         return _Indices(np.asarray(known_sets[v]))
-    parts = [to_region(s, known_sets) for s in (v if isinstance(v, list) else [v])]
+    parts = [to_region(s, known_sets, spacing) for s in (v if isinstance(v, list) else [v])]
     if k == "all_of":
         out = parts[0]
         for p in parts[1:]:
