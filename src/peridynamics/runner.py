@@ -425,7 +425,8 @@ class Simulation:
             if self.cloud.dim == 1:
                 series = {"damage": damage.tolist()}
                 plot_histories(path, self.cloud.x[:, 0].tolist(), series,
-                               f"{self.deck.name}: damage along the bar (x in um units)")
+                               f"{self.deck.name}: damage at t = {s.t * 1e6:.2f} us",
+                               xlabel="x (m)", xscale=1.0)
             else:
                 plot_damage(path, self.cloud.x, damage, self.cloud.spacing,
                             f"{self.deck.name}: damage at t = {s.t * 1e6:.2f} us")

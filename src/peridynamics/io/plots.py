@@ -38,16 +38,16 @@ def plot_damage(path: Path, x: NDArray, damage: NDArray, spacing: float, title: 
 
 
 def plot_histories(path: Path, time: list[float], series: dict[str, list[float]],
-                   title: str) -> None:
-    """One panel per series against time (us)."""
+                   title: str, xlabel: str = "time (us)", xscale: float = 1e6) -> None:
+    """One panel per series against time (plotted in us unless told otherwise)."""
     n = max(1, len(series))
     fig, axes = plt.subplots(n, 1, figsize=(8, 2.4 * n + 0.6), sharex=True, squeeze=False)
-    t_us = np.asarray(time) * 1e6
+    t_us = np.asarray(time) * xscale
     for ax, (name, values) in zip(axes[:, 0], series.items(), strict=False):
         ax.plot(t_us, values, lw=1.2)
         ax.set_ylabel(name)
         ax.grid(alpha=0.3)
-    axes[-1, 0].set_xlabel("time (us)")
+    axes[-1, 0].set_xlabel(xlabel)
     axes[0, 0].set_title(title)
     fig.tight_layout()
     fig.savefig(path, dpi=150)
