@@ -11,18 +11,26 @@ ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
 
 
-def cli(*args: str, env: dict[str, str] | None = None, timeout: float = 600,
-        check: bool = False) -> subprocess.CompletedProcess:
+def cli(
+    *args: str, env: dict[str, str] | None = None, timeout: float = 600, check: bool = False
+) -> subprocess.CompletedProcess:
     """Run ``python -m peridynamics ARGS`` with the source tree importable."""
     full_env = dict(os.environ)
     src = str(ROOT / "src")
     full_env["PYTHONPATH"] = src + os.pathsep + full_env.get("PYTHONPATH", "")
     if env:
         full_env.update(env)
-    proc = subprocess.run([sys.executable, "-m", "peridynamics", *args], capture_output=True,
-                          text=True, env=full_env, timeout=timeout)
+    proc = subprocess.run(
+        [sys.executable, "-m", "peridynamics", *args],
+        capture_output=True,
+        text=True,
+        env=full_env,
+        timeout=timeout,
+    )
     if check and proc.returncode != 0:
-        raise AssertionError(f"exit {proc.returncode}\nstdout:\n{proc.stdout}\nstderr:\n{proc.stderr}")
+        raise AssertionError(
+            f"exit {proc.returncode}\nstdout:\n{proc.stdout}\nstderr:\n{proc.stderr}"
+        )
     return proc
 
 
@@ -30,5 +38,9 @@ def popen(*args: str) -> subprocess.Popen:
     """Start ``python -m peridynamics ARGS`` in the background."""
     full_env = dict(os.environ)
     full_env["PYTHONPATH"] = str(ROOT / "src") + os.pathsep + full_env.get("PYTHONPATH", "")
-    return subprocess.Popen([sys.executable, "-m", "peridynamics", *args],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=full_env)
+    return subprocess.Popen(
+        [sys.executable, "-m", "peridynamics", *args],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        env=full_env,
+    )

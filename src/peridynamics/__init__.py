@@ -15,6 +15,13 @@ from peridynamics.model import Model
 from peridynamics.solvers import ExplicitSolver, State
 
 __all__ = [
-    "BondBasedMaterial", "Bonds", "CriticalStretch", "ExplicitSolver", "Model", "PointCloud",
-    "State", "__version__", "build_bonds",
+    "BondBasedMaterial",
+    "Bonds",
+    "CriticalStretch",
+    "ExplicitSolver",
+    "Model",
+    "PointCloud",
+    "State",
+    "__version__",
+    "build_bonds",
 ]

@@ -59,8 +59,9 @@ def _model(dim: int, n_side: int) -> Model:
     return Model(cloud, bonds, BondBasedMaterial(youngs_modulus=70e9, density=2500.0))
 
 
-def run_case(dim: int, n_side: int, steps: int = 20, numpy_steps: int = 3,
-             seed: int = 0) -> BenchResult:
+def run_case(
+    dim: int, n_side: int, steps: int = 20, numpy_steps: int = 3, seed: int = 0
+) -> BenchResult:
     """Time ``steps`` explicit steps with the Numba kernels and NumPy in one process."""
     t0 = time.perf_counter()
     model = _model(dim, n_side)
@@ -94,14 +95,21 @@ def run_case(dim: int, n_side: int, steps: int = 20, numpy_steps: int = 3,
     numpy_s = (time.perf_counter() - t0) / numpy_steps
     mem = b.nbytes + model.stiffness.nbytes + state.intact.nbytes
     return BenchResult(
-        dim=dim, points=model.n_points, bonds=b.n_bonds,
-        seconds_per_step=numba_s, bonds_per_second=b.n_bonds / numba_s,
-        numpy_seconds_per_step=numpy_s, numpy_bonds_per_second=b.n_bonds / numpy_s,
-        speedup=numpy_s / numba_s, bytes_per_bond=mem / b.n_bonds, setup_s=setup,
+        dim=dim,
+        points=model.n_points,
+        bonds=b.n_bonds,
+        seconds_per_step=numba_s,
+        bonds_per_second=b.n_bonds / numba_s,
+        numpy_seconds_per_step=numpy_s,
+        numpy_bonds_per_second=b.n_bonds / numpy_s,
+        speedup=numpy_s / numba_s,
+        bytes_per_bond=mem / b.n_bonds,
+        setup_s=setup,
     )
 
 
-def run_benchmarks(size: str = "default", dims: tuple[int, ...] = (1, 2, 3),
-                   steps: int = 20) -> list[BenchResult]:
+def run_benchmarks(
+    size: str = "default", dims: tuple[int, ...] = (1, 2, 3), steps: int = 20
+) -> list[BenchResult]:
     """Run the benchmark cases of ``size`` ("quick", "default", "full")."""
     return [run_case(d, CASES[size][d], steps=steps) for d in dims]

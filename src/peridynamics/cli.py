@@ -81,10 +81,13 @@ def cmd_run(args: argparse.Namespace) -> int:
     try:
         sim = Simulation.from_deck(deck)
         if not args.quiet:
-            print(f"{deck.name}: {sim.cloud.n_points} points, {sim.model.bonds.n_bonds} bonds, "
-                  f"dt = {sim.solver.dt:.4g} s, {sim.n_steps} steps -> {out}")
-        summary = sim.run(out, quiet=args.quiet, checkpoint_every=args.checkpoint_every,
-                          resume=bool(args.resume))
+            print(
+                f"{deck.name}: {sim.cloud.n_points} points, {sim.model.bonds.n_bonds} bonds, "
+                f"dt = {sim.solver.dt:.4g} s, {sim.n_steps} steps -> {out}"
+            )
+        summary = sim.run(
+            out, quiet=args.quiet, checkpoint_every=args.checkpoint_every, resume=bool(args.resume)
+        )
     except SetupError as exc:
         _err(f"invalid deck:\n  {exc}")
         return EXIT_INVALID
@@ -96,9 +99,11 @@ def cmd_run(args: argparse.Namespace) -> int:
         return EXIT_UNSTABLE
     if not args.quiet:
         r, t = summary["results"], summary["timing"]
-        print(f"done: {t['steps']} steps in {t['wall_s']:.2f} s "
-              f"({t['bond_updates_per_s']:.3g} bond updates/s); max damage "
-              f"{r['max_damage']:.3f}; wrote {out / 'summary.json'}")
+        print(
+            f"done: {t['steps']} steps in {t['wall_s']:.2f} s "
+            f"({t['bond_updates_per_s']:.3g} bond updates/s); max damage "
+            f"{r['max_damage']:.3f}; wrote {out / 'summary.json'}"
+        )
     return EXIT_OK
 
 
@@ -134,33 +139,47 @@ def cmd_bench(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps([r.as_dict() for r in results], indent=2))
     else:
-        print(f"{'dim':>3} {'points':>9} {'bonds':>11} {'s/step':>9} {'bonds/s':>10} "
-              f"{'numpy b/s':>10} {'speedup':>8} {'B/bond':>7}")
+        print(
+            f"{'dim':>3} {'points':>9} {'bonds':>11} {'s/step':>9} {'bonds/s':>10} "
+            f"{'numpy b/s':>10} {'speedup':>8} {'B/bond':>7}"
+        )
         for r in results:
-            print(f"{r.dim:>3} {r.points:>9} {r.bonds:>11} {r.seconds_per_step:>9.4f} "
-                  f"{r.bonds_per_second:>10.3g} {r.numpy_bonds_per_second:>10.3g} "
-                  f"{r.speedup:>8.1f} {r.bytes_per_bond:>7.1f}")
+            print(
+                f"{r.dim:>3} {r.points:>9} {r.bonds:>11} {r.seconds_per_step:>9.4f} "
+                f"{r.bonds_per_second:>10.3g} {r.numpy_bonds_per_second:>10.3g} "
+                f"{r.speedup:>8.1f} {r.bytes_per_bond:>7.1f}"
+            )
     return EXIT_OK
 
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser."""
-    p = argparse.ArgumentParser(prog="peridynamics",
-                                description="Peridynamic simulation of fracture and waves.")
+    p = argparse.ArgumentParser(
+        prog="peridynamics", description="Peridynamic simulation of fracture and waves."
+    )
     p.add_argument("--version", action="version", version=f"peridynamics {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
 
     def deck_args(sp: argparse.ArgumentParser) -> None:
         sp.add_argument("deck", help="YAML deck")
-        sp.add_argument("--set", action="append", metavar="KEY.PATH=VALUE",
-                        help="override a deck value (repeatable), e.g. solver.steps=100")
+        sp.add_argument(
+            "--set",
+            action="append",
+            metavar="KEY.PATH=VALUE",
+            help="override a deck value (repeatable), e.g. solver.steps=100",
+        )
 
     r = sub.add_parser("run", help="run a deck")
     deck_args(r)
     r.add_argument("--out", help="output folder (default results/<name>)")
     r.add_argument("--quiet", action="store_true", help="no progress bar or messages")
-    r.add_argument("--checkpoint-every", type=int, default=0, metavar="N",
-                   help="write an atomic checkpoint every N steps")
+    r.add_argument(
+        "--checkpoint-every",
+        type=int,
+        default=0,
+        metavar="N",
+        help="write an atomic checkpoint every N steps",
+    )
     r.add_argument("--resume", metavar="DIR", help="continue from the checkpoint in DIR")
     r.set_defaults(func=cmd_run)
 

@@ -77,8 +77,9 @@ class Model:
         """Number of points."""
         return self.cloud.n_points
 
-    def internal_force(self, u: NDArray, intact: NDArray[np.uint8], force: NDArray,
-                       max_stretch: NDArray) -> int:
+    def internal_force(
+        self, u: NDArray, intact: NDArray[np.uint8], force: NDArray, max_stretch: NDArray
+    ) -> int:
         """Break bonds, then fill ``force`` (n, dim) with the bond force density (N/m^3).
 
         ``intact`` (n_bonds,) is updated in place; ``max_stretch`` (n,) receives the
@@ -86,9 +87,21 @@ class Model:
         Returns the number of directed bonds broken.
         """
         b = self.bonds
-        return int(self._force_kernel(self.cloud.x, u, b.offsets, b.bond_j, self.inv_length,
-                                      self.stiffness, intact, self.point_s0,
-                                      self.family_s0_min, force, max_stretch))
+        return int(
+            self._force_kernel(
+                self.cloud.x,
+                u,
+                b.offsets,
+                b.bond_j,
+                self.inv_length,
+                self.stiffness,
+                intact,
+                self.point_s0,
+                self.family_s0_min,
+                force,
+                max_stretch,
+            )
+        )
 
     def external_force(self, t: float, out: NDArray) -> None:
         """Fill ``out`` (n, dim) with the external body-force density at time t (N/m^3)."""
@@ -100,8 +113,9 @@ class Model:
         """W_i (J/m^3), shape (n,)."""
         b = self.bonds
         out = np.empty(self.n_points)
-        bond_based.strain_energy_density(self.cloud.x, u, b.offsets, b.bond_j, b.bond_length,
-                                         self.stiffness, intact, out)
+        bond_based.strain_energy_density(
+            self.cloud.x, u, b.offsets, b.bond_j, b.bond_length, self.stiffness, intact, out
+        )
         return out
 
     def strain_energy(self, u: NDArray, intact: NDArray[np.uint8]) -> float:
@@ -121,6 +135,7 @@ class Model:
     def stable_time_step(self) -> float:
         """Largest stable explicit step, min over points of Silling & Askari's bound (s)."""
         out = np.empty(self.n_points)
-        bond_based.stable_time_step_per_point(self.bonds.offsets, self.bonds.bond_length,
-                                              self.stiffness, self.density, out)
+        bond_based.stable_time_step_per_point(
+            self.bonds.offsets, self.bonds.bond_length, self.stiffness, self.density, out
+        )
         return float(out.min())

@@ -58,19 +58,26 @@ def build_cloud(deck: dk.Deck) -> PointCloud:
     dx = deck.discretisation.spacing
     try:
         if isinstance(g, dk.BarGeometry):
-            cloud = bar(g.length, dx, area=g.area, origin=g.origin,
-                        nodes_on_boundary=g.nodes_on_boundary)
+            cloud = bar(
+                g.length, dx, area=g.area, origin=g.origin, nodes_on_boundary=g.nodes_on_boundary
+            )
         elif isinstance(g, dk.RectangleGeometry):
-            cloud = rectangle(g.size, dx, thickness=g.thickness, origin=g.origin,
-                              plane=g.plane, holes=[to_region(h) for h in g.holes])
+            cloud = rectangle(
+                g.size,
+                dx,
+                thickness=g.thickness,
+                origin=g.origin,
+                plane=g.plane,
+                holes=[to_region(h) for h in g.holes],
+            )
         elif isinstance(g, dk.BoxGeometry):
             cloud = box(g.size, dx, origin=g.origin, holes=[to_region(h) for h in g.holes])
         elif isinstance(g, dk.CylinderGeometry):
-            cloud = cylinder(g.radius, g.length, dx, origin=g.origin,
-                             holes=[to_region(h) for h in g.holes])
+            cloud = cylinder(
+                g.radius, g.length, dx, origin=g.origin, holes=[to_region(h) for h in g.holes]
+            )
         else:
-            cloud = from_mesh(g.file, dim=g.dim, thickness=g.thickness, plane=g.plane,
-                              spacing=dx)
+            cloud = from_mesh(g.file, dim=g.dim, thickness=g.thickness, plane=g.plane, spacing=dx)
     except ValueError as exc:
         raise SetupError("geometry", str(exc)) from None
     sets: dict[str, NDArray[np.intp]] = {"all": np.arange(cloud.n_points)}
@@ -86,10 +93,12 @@ def build_cloud(deck: dk.Deck) -> PointCloud:
         _collect_refs(spec, resolve)
         idx = cloud.select(to_region(spec, sets, cloud.spacing))
         if idx.size == 0:
-            raise SetupError(f"node_sets.{name}",
-                             "selects no point; check the region against the geometry "
-                             f"(points span {cloud.bounds[0].tolist()} .. "
-                             f"{cloud.bounds[1].tolist()} m)")
+            raise SetupError(
+                f"node_sets.{name}",
+                "selects no point; check the region against the geometry "
+                f"(points span {cloud.bounds[0].tolist()} .. "
+                f"{cloud.bounds[1].tolist()} m)",
+            )
         sets[name] = idx
         return idx
 
@@ -127,11 +136,17 @@ def build_conditions(deck: dk.Deck, cloud: PointCloud) -> tuple[list, list, list
     for spec in deck.boundary_conditions:
         nodes = cloud.node_set(spec.set)
         if isinstance(spec, dk.DisplacementBC):
-            kin.append(bc.PrescribedDisplacement(nodes, dict(spec.components),
-                                                 time_function(spec.time_function)))
+            kin.append(
+                bc.PrescribedDisplacement(
+                    nodes, dict(spec.components), time_function(spec.time_function)
+                )
+            )
         elif isinstance(spec, dk.VelocityBC):
-            kin.append(bc.PrescribedVelocity(nodes, dict(spec.components),
-                                             time_function(spec.time_function)))
+            kin.append(
+                bc.PrescribedVelocity(
+                    nodes, dict(spec.components), time_function(spec.time_function)
+                )
+            )
         elif isinstance(spec, dk.FixedBC):
             kin.append(bc.Fixed(nodes, tuple(spec.components) if spec.components else None))
         elif isinstance(spec, dk.InitialVelocityBC):
@@ -146,10 +161,17 @@ def build_conditions(deck: dk.Deck, cloud: PointCloud) -> tuple[list, list, list
             else:
                 traction = np.asarray(spec.value, dtype=float)
                 normal = None if spec.normal is None else np.asarray(spec.normal, dtype=float)
-            body.append(bc.traction_as_body_force(
-                nodes, traction, cloud.x, cloud.spacing, normal=normal,
-                layer_thickness=spec.layer_thickness,
-                function=time_function(spec.time_function)))
+            body.append(
+                bc.traction_as_body_force(
+                    nodes,
+                    traction,
+                    cloud.x,
+                    cloud.spacing,
+                    normal=normal,
+                    layer_thickness=spec.layer_thickness,
+                    function=time_function(spec.time_function),
+                )
+            )
     return body, kin, init
 
 
@@ -174,13 +196,23 @@ def build_model(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, body: list) -> M
         s0 = dmg.critical_stretch
         if s0 is None:
             assert dmg.fracture_energy is not None
-            s0 = material.critical_stretch(dmg.fracture_energy, cloud.dim, bonds.horizon,
-                                           cloud.cross_section, cloud.plane)
-        no_fail = (np.unique(np.concatenate([cloud.node_set(n) for n in dmg.no_fail]))
-                   if dmg.no_fail else None)
+            s0 = material.critical_stretch(
+                dmg.fracture_energy, cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
+            )
+        no_fail = (
+            np.unique(np.concatenate([cloud.node_set(n) for n in dmg.no_fail]))
+            if dmg.no_fail
+            else None
+        )
         damage = CriticalStretch(s0, no_fail)
-    return Model(cloud, bonds, material, damage, body,
-                 surface_correction=deck.discretisation.surface_correction)
+    return Model(
+        cloud,
+        bonds,
+        material,
+        damage,
+        body,
+        surface_correction=deck.discretisation.surface_correction,
+    )
 
 
 # ------------------------------------------------------------------------ recording
@@ -194,14 +226,25 @@ class Recorder:
 
     def __post_init__(self) -> None:
         if not self.records:
-            self.records = {"time_s": [], "kinetic_energy_J": [], "strain_energy_J": [],
-                            "max_damage": [], "probes": {p.name: [] for p in self.deck.output.probes},
-                            "crack_tip_m": [], "vtk_frames": []}
+            self.records = {
+                "time_s": [],
+                "kinetic_energy_J": [],
+                "strain_energy_J": [],
+                "max_damage": [],
+                "probes": {p.name: [] for p in self.deck.output.probes},
+                "crack_tip_m": [],
+                "vtk_frames": [],
+            }
         ct = self.deck.output.crack_tip
-        self._tip = None if ct is None else (
-            np.asarray(ct.origin, dtype=float),
-            None if ct.direction is None else np.asarray(ct.direction, dtype=float),
-            ct.damage_threshold)
+        self._tip = (
+            None
+            if ct is None
+            else (
+                np.asarray(ct.origin, dtype=float),
+                None if ct.direction is None else np.asarray(ct.direction, dtype=float),
+                ct.damage_threshold,
+            )
+        )
 
     def probe_value(self, probe: dk.Probe, s: State, damage: NDArray) -> float:
         """One number for a probe at the current state."""
@@ -213,11 +256,17 @@ class Recorder:
         if q == "reaction_force":
             f = -s.force[nodes] * self.model.cloud.volume[nodes, None]
             vec = f.sum(axis=0)
-            return float(np.linalg.norm(vec) if probe.component == "magnitude"
-                         else vec[COMP[probe.component]])
+            return float(
+                np.linalg.norm(vec)
+                if probe.component == "magnitude"
+                else vec[COMP[probe.component]]
+            )
         arr = {"displacement": s.u, "velocity": s.v, "force_density": s.force}[q][nodes]
-        vals = (np.linalg.norm(arr, axis=1) if probe.component == "magnitude"
-                else arr[:, COMP[probe.component]])
+        vals = (
+            np.linalg.norm(arr, axis=1)
+            if probe.component == "magnitude"
+            else arr[:, COMP[probe.component]]
+        )
         return float(_reduce(vals, probe.reduce or "mean"))
 
     def record(self, s: State) -> None:
@@ -260,11 +309,17 @@ class Simulation:
         model = build_model(deck, cloud, bonds, body)
         s = deck.solver
         try:
-            solver = ExplicitSolver(model, time_step=s.time_step, integrator=s.integrator,
-                                    constraints=kin, initial_velocities=init,
-                                    safety_factor=s.safety_factor,
-                                    allow_unstable=s.allow_unstable,
-                                    blowup_factor=s.blowup_factor, check_every=s.check_every)
+            solver = ExplicitSolver(
+                model,
+                time_step=s.time_step,
+                integrator=s.integrator,
+                constraints=kin,
+                initial_velocities=init,
+                safety_factor=s.safety_factor,
+                allow_unstable=s.allow_unstable,
+                blowup_factor=s.blowup_factor,
+                check_every=s.check_every,
+            )
         except ValueError as exc:
             raise SetupError("solver.time_step", str(exc)) from None
         return cls(deck, cloud, model, solver, setup_s=time.perf_counter() - t0)
@@ -300,8 +355,14 @@ class Simulation:
             records["vtk_frames"] = frames
             write_pvd(out / f"{self.deck.name}.pvd", [tuple(f) for f in frames])
 
-    def run(self, out_dir: str | Path, quiet: bool = False, checkpoint_every: int = 0,
-            resume: bool = False, progress: bool = True) -> dict:
+    def run(
+        self,
+        out_dir: str | Path,
+        quiet: bool = False,
+        checkpoint_every: int = 0,
+        resume: bool = False,
+        progress: bool = True,
+    ) -> dict:
         """Run to the end, writing output into ``out_dir``; returns the summary mapping.
 
         Raises SimulationUnstable after writing ``last_good.vtu`` and a summary whose
@@ -313,8 +374,11 @@ class Simulation:
         if resume:
             state, records, fp = read_checkpoint(out)
             if fp != self.fingerprint():
-                raise SetupError("--resume", f"the checkpoint in {str(out)!r} was written by "
-                                 "a different deck; resume with the same deck and overrides")
+                raise SetupError(
+                    "--resume",
+                    f"the checkpoint in {str(out)!r} was written by "
+                    "a different deck; resume with the same deck and overrides",
+                )
             self.solver._last_good = state.copy()
             recorder = Recorder(self.deck, self.model, records)
         else:
@@ -354,12 +418,27 @@ class Simulation:
             self._frame(out, state, recorder.records)
         return self._finish(out, state, recorder, wall, steps_done_here, status, error)
 
-    def _finish(self, out: Path, s: State, recorder: Recorder, wall: float, steps: int,
-                status: str, error: str | None) -> dict:
+    def _finish(
+        self,
+        out: Path,
+        s: State,
+        recorder: Recorder,
+        wall: float,
+        steps: int,
+        status: str,
+        error: str | None,
+    ) -> dict:
         m, r = self.model, recorder.records
         damage = m.point_damage(s.intact)
-        np.savez(out / "final_state.npz", u=s.u, v=s.v, damage=damage, intact=s.intact,
-                 t=s.t, step=s.step)
+        np.savez(
+            out / "final_state.npz",
+            u=s.u,
+            v=s.v,
+            damage=damage,
+            intact=s.intact,
+            t=s.t,
+            step=s.step,
+        )
         results: dict[str, Any] = {
             "n_points": self.cloud.n_points,
             "n_bonds": m.bonds.n_bonds,
@@ -374,8 +453,9 @@ class Simulation:
             "max_displacement_m": float(np.abs(s.u).max()),
             "kinetic_energy_J": m.kinetic_energy(s.v),
             "strain_energy_J": m.strain_energy(s.u, s.intact),
-            "history": {k: r[k] for k in ("time_s", "kinetic_energy_J", "strain_energy_J",
-                                          "max_damage")},
+            "history": {
+                k: r[k] for k in ("time_s", "kinetic_energy_J", "strain_energy_J", "max_damage")
+            },
             "probes": {},
         }
         t = np.asarray(r["time_s"])
@@ -385,7 +465,9 @@ class Simulation:
             peak = float(v[k]) if len(v) else 0.0
             arrived = np.flatnonzero(np.abs(v) >= 0.1 * abs(peak)) if peak else np.array([])
             results["probes"][name] = {
-                "time_s": r["time_s"], "values": values, "peak": peak,
+                "time_s": r["time_s"],
+                "values": values,
+                "peak": peak,
                 "peak_time_s": float(t[k]) if len(v) else None,
                 "arrival_time_s": float(t[arrived[0]]) if arrived.size else None,
             }
@@ -397,22 +479,35 @@ class Simulation:
             results["crack_tip_speed_m_per_s"] = speed.tolist()
             results["max_crack_tip_speed_m_per_s"] = float(speed.max()) if len(speed) else 0.0
             if self.cloud.dim == 2:
-                n_br, x_br = branching(self.cloud.x, damage, self.cloud.spacing,
-                                       ct.damage_threshold, x_from=float(ct.origin[0]))
+                n_br, x_br = branching(
+                    self.cloud.x,
+                    damage,
+                    self.cloud.spacing,
+                    ct.damage_threshold,
+                    x_from=float(ct.origin[0]),
+                )
                 results["crack_branches"] = n_br
                 results["crack_branched"] = n_br >= 2
                 results["branching_x_m"] = x_br
         files = self._figure(out, s, damage, r)
         n_b = m.bonds.n_bonds
-        timing = {"wall_s": wall, "steps": steps, "setup_s": self.setup_s,
-                  "bond_updates_per_s": n_b * steps / wall if wall > 0 and steps else 0.0,
-                  "seconds_per_step": wall / steps if steps else 0.0}
+        timing = {
+            "wall_s": wall,
+            "steps": steps,
+            "setup_s": self.setup_s,
+            "bond_updates_per_s": n_b * steps / wall if wall > 0 and steps else 0.0,
+            "seconds_per_step": wall / steps if steps else 0.0,
+        }
         extra: dict[str, Any] = {"status": status, "files": files}
         if error:
             extra["error"] = error
-        return write_summary(out / "summary.json",
-                             self.deck.model_dump(mode="json", by_alias=True),
-                             results, timing, extra)
+        return write_summary(
+            out / "summary.json",
+            self.deck.model_dump(mode="json", by_alias=True),
+            results,
+            timing,
+            extra,
+        )
 
     def _figure(self, out: Path, s: State, damage: NDArray, r: dict) -> list[str]:
         kind = self.deck.output.plot
@@ -424,12 +519,22 @@ class Simulation:
         if kind == "damage":
             if self.cloud.dim == 1:
                 series = {"damage": damage.tolist()}
-                plot_histories(path, self.cloud.x[:, 0].tolist(), series,
-                               f"{self.deck.name}: damage at t = {s.t * 1e6:.2f} us",
-                               xlabel="x (m)", xscale=1.0)
+                plot_histories(
+                    path,
+                    self.cloud.x[:, 0].tolist(),
+                    series,
+                    f"{self.deck.name}: damage at t = {s.t * 1e6:.2f} us",
+                    xlabel="x (m)",
+                    xscale=1.0,
+                )
             else:
-                plot_damage(path, self.cloud.x, damage, self.cloud.spacing,
-                            f"{self.deck.name}: damage at t = {s.t * 1e6:.2f} us")
+                plot_damage(
+                    path,
+                    self.cloud.x,
+                    damage,
+                    self.cloud.spacing,
+                    f"{self.deck.name}: damage at t = {s.t * 1e6:.2f} us",
+                )
         else:
             series = dict(r["probes"]) or {"kinetic energy (J)": r["kinetic_energy_J"]}
             plot_histories(path, r["time_s"], series, f"{self.deck.name}: probes")
@@ -458,8 +563,14 @@ class _RichBar:
             TimeRemainingColumn,
         )
 
-        self.p = Progress(TextColumn(f"[bold]{label}"), BarColumn(), MofNCompleteColumn(),
-                          TextColumn("steps"), TimeElapsedColumn(), TimeRemainingColumn())
+        self.p = Progress(
+            TextColumn(f"[bold]{label}"),
+            BarColumn(),
+            MofNCompleteColumn(),
+            TextColumn("steps"),
+            TimeElapsedColumn(),
+            TimeRemainingColumn(),
+        )
         self.task = self.p.add_task(label, total=total, completed=start)
 
     def __enter__(self) -> _RichBar:

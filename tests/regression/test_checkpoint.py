@@ -12,8 +12,16 @@ import pytest
 from tests.helpers import EXAMPLES, cli, popen
 
 DECK = str(EXAMPLES / "crack_branching_2d" / "deck.yaml")
-SMALL = ["--set", "discretisation.spacing=1e-3", "--set", "discretisation.horizon=3e-3",
-         "--set", "output.vtk_every=100", "--set", "output.history_every=7"]
+SMALL = [
+    "--set",
+    "discretisation.spacing=1e-3",
+    "--set",
+    "discretisation.horizon=3e-3",
+    "--set",
+    "output.vtk_every=100",
+    "--set",
+    "output.history_every=7",
+]
 
 
 def _same_results(a, b) -> None:
@@ -29,8 +37,16 @@ def test_resume_after_crash_is_bitwise_identical(tmp_path) -> None:
     ref, crashed = tmp_path / "ref", tmp_path / "crashed"
     args = [*SMALL, "--set", "solver.end_time=40e-6", "--quiet"]
     cli("run", DECK, "--out", str(ref), *args, check=True)
-    proc = cli("run", DECK, "--out", str(crashed), "--checkpoint-every", "50", *args,
-               env={"PERIDYNAMICS_CRASH_AT_STEP": "130"})
+    proc = cli(
+        "run",
+        DECK,
+        "--out",
+        str(crashed),
+        "--checkpoint-every",
+        "50",
+        *args,
+        env={"PERIDYNAMICS_CRASH_AT_STEP": "130"},
+    )
     assert proc.returncode == 137  # died mid-run, after the checkpoint of step 100
     assert not (crashed / "summary.json").exists()
     cli("run", DECK, "--resume", str(crashed), *args, check=True)

@@ -17,8 +17,7 @@ from tests.helpers import EXAMPLES, cli
 def _run(tmp_path, name: str, *overrides: str) -> dict:
     out = tmp_path / name
     sets = [a for o in overrides for a in ("--set", o)]
-    cli("run", str(EXAMPLES / name / "deck.yaml"), "--out", str(out), "--quiet", *sets,
-        check=True)
+    cli("run", str(EXAMPLES / name / "deck.yaml"), "--out", str(out), "--quiet", *sets, check=True)
     summary = json.loads((out / "summary.json").read_text())
     assert set(summary) >= {"inputs", "results", "timing", "versions"}
     assert summary["status"] == "completed"
@@ -56,8 +55,13 @@ def test_plate_tension_2d_matches_static_solution(tmp_path) -> None:
 
 
 def test_crack_branching_small(tmp_path) -> None:
-    s = _run(tmp_path, "crack_branching_2d", "discretisation.spacing=5e-4",
-             "discretisation.horizon=2e-3", "output.vtk_every=0")
+    s = _run(
+        tmp_path,
+        "crack_branching_2d",
+        "discretisation.spacing=5e-4",
+        "discretisation.horizon=2e-3",
+        "output.vtk_every=0",
+    )
     r = s["results"]
     assert r["max_damage"] > 0.9
     assert r["crack_tip_position_m"][-1] > 0.03  # ran through most of the ligament

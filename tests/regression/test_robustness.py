@@ -12,9 +12,19 @@ from tests.helpers import EXAMPLES, cli
 def test_unstable_run_stops_with_step_time_and_point(tmp_path) -> None:
     out = tmp_path / "bad"
     deck = str(EXAMPLES / "plate_tension_2d" / "deck.yaml")
-    proc = cli("run", deck, "--out", str(out), "--quiet",
-               "--set", "discretisation.spacing=1e-3",
-               "--set", "solver.time_step=1e-6", "--set", "solver.allow_unstable=true")
+    proc = cli(
+        "run",
+        deck,
+        "--out",
+        str(out),
+        "--quiet",
+        "--set",
+        "discretisation.spacing=1e-3",
+        "--set",
+        "solver.time_step=1e-6",
+        "--set",
+        "solver.allow_unstable=true",
+    )
     assert proc.returncode == 3
     msg = proc.stderr
     assert "unstable at step" in msg and "t = " in msg and "point" in msg
@@ -26,8 +36,17 @@ def test_unstable_run_stops_with_step_time_and_point(tmp_path) -> None:
 
 def test_time_step_above_limit_is_refused(tmp_path) -> None:
     deck = str(EXAMPLES / "plate_tension_2d" / "deck.yaml")
-    proc = cli("run", deck, "--out", str(tmp_path), "--quiet",
-               "--set", "discretisation.spacing=1e-3", "--set", "solver.time_step=3e-7")
+    proc = cli(
+        "run",
+        deck,
+        "--out",
+        str(tmp_path),
+        "--quiet",
+        "--set",
+        "discretisation.spacing=1e-3",
+        "--set",
+        "solver.time_step=3e-7",
+    )
     assert proc.returncode == 2
     assert "solver.time_step" in proc.stderr and "allow_unstable" in proc.stderr
 
@@ -38,19 +57,27 @@ def test_3d_box_with_rectangle_crack_runs(tmp_path) -> None:
         "geometry": {"type": "box", "size": [0.01, 0.01, 0.01]},
         "discretisation": {"spacing": 1e-3, "horizon_factor": 3.015},
         "material": {"youngs_modulus": 70e9, "density": 2700.0, "poisson_ratio": 0.25},
-        "damage": {"model": "critical_stretch", "fracture_energy": 10.0,
-                   "no_fail": ["top", "bottom"]},
-        "node_sets": {"top": {"edge": {"normal": [0, 0, 1]}},
-                      "bottom": {"edge": {"normal": [0, 0, -1]}}},
+        "damage": {
+            "model": "critical_stretch",
+            "fracture_energy": 10.0,
+            "no_fail": ["top", "bottom"],
+        },
+        "node_sets": {
+            "top": {"edge": {"normal": [0, 0, 1]}},
+            "bottom": {"edge": {"normal": [0, 0, -1]}},
+        },
         "precracks": [{"points": [[0, 0, 0.005], [0.004, 0, 0.005], [0, 0.01, 0.005]]}],
         "boundary_conditions": [
             {"type": "velocity", "set": "top", "components": {"z": 5.0}},
             {"type": "velocity", "set": "bottom", "components": {"z": -5.0}},
         ],
         "solver": {"steps": 200},
-        "output": {"vtk_every": 100,
-                   "probes": [{"name": "reaction", "quantity": "reaction_force",
-                               "set": "top", "component": "z"}]},
+        "output": {
+            "vtk_every": 100,
+            "probes": [
+                {"name": "reaction", "quantity": "reaction_force", "set": "top", "component": "z"}
+            ],
+        },
     }
     path = tmp_path / "box.yaml"
     path.write_text(yaml.safe_dump(deck))

@@ -6,8 +6,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 
-def crack_tip(x: NDArray, damage: NDArray, origin: NDArray, direction: NDArray | None,
-              threshold: float) -> float:
+def crack_tip(
+    x: NDArray, damage: NDArray, origin: NDArray, direction: NDArray | None, threshold: float
+) -> float:
     """Distance (m) from ``origin`` of the damaged point farthest along ``direction``.
 
     With ``direction=None`` the Euclidean distance is used. Returns 0 if no point has
@@ -37,8 +38,9 @@ def tip_speed(times: NDArray, positions: NDArray, window: int = 3) -> NDArray:
     return v
 
 
-def count_branches(x: NDArray, damage: NDArray, column_x: float, spacing: float,
-                   threshold: float) -> int:
+def count_branches(
+    x: NDArray, damage: NDArray, column_x: float, spacing: float, threshold: float
+) -> int:
     """Number of separate damaged bands crossing the line x = column_x (2-D).
 
     Points within half a spacing of the line with ``damage >= threshold`` are sorted by
@@ -51,8 +53,9 @@ def count_branches(x: NDArray, damage: NDArray, column_x: float, spacing: float,
     return int(1 + np.sum(np.diff(y) > 2.5 * spacing))
 
 
-def branching(x: NDArray, damage: NDArray, spacing: float, threshold: float,
-              x_from: float) -> tuple[int, float | None]:
+def branching(
+    x: NDArray, damage: NDArray, spacing: float, threshold: float, x_from: float
+) -> tuple[int, float | None]:
     """Largest number of damaged bands over the columns x >= ``x_from`` and the first
     column (m) where two or more bands cross (None if the crack never splits)."""
     cols = np.unique(np.round(x[x[:, 0] >= x_from, 0] / spacing * 2) / 2 * spacing)

@@ -6,6 +6,13 @@ from peridynamics.bonds.precrack import RectangleCrack, SegmentCrack, make_crack
 from peridynamics.bonds.search import brute_force_pairs, find_pairs
 
 __all__ = [
-    "PARTIAL_VOLUME_RULES", "Bonds", "RectangleCrack", "SegmentCrack", "brute_force_pairs",
-    "build_bonds", "find_pairs", "make_crack", "partial_volume_factor",
+    "PARTIAL_VOLUME_RULES",
+    "Bonds",
+    "RectangleCrack",
+    "SegmentCrack",
+    "brute_force_pairs",
+    "build_bonds",
+    "find_pairs",
+    "make_crack",
+    "partial_volume_factor",
 ]

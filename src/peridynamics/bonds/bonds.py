@@ -76,8 +76,15 @@ class Bonds:
         """Memory held by the per-bond arrays (bytes)."""
         return sum(
             a.nbytes
-            for a in (self.bond_i, self.bond_j, self.bond_xi, self.bond_length,
-                      self.bond_volume, self.bond_correction, self.bond_intact)
+            for a in (
+                self.bond_i,
+                self.bond_j,
+                self.bond_xi,
+                self.bond_length,
+                self.bond_volume,
+                self.bond_correction,
+                self.bond_intact,
+            )
         )
 
     def reverse_index(self) -> NDArray[np.int64]:

@@ -18,7 +18,21 @@ from peridynamics.geometry.regions import (
 )
 
 __all__ = [
-    "Ball", "Box", "Circle", "CylinderRegion", "Everywhere", "HalfSpace", "Layer", "NearestPoint",
-    "PointCloud", "Polygon", "Region", "Sphere", "bar", "box", "cylinder", "from_mesh",
+    "Ball",
+    "Box",
+    "Circle",
+    "CylinderRegion",
+    "Everywhere",
+    "HalfSpace",
+    "Layer",
+    "NearestPoint",
+    "PointCloud",
+    "Polygon",
+    "Region",
+    "Sphere",
+    "bar",
+    "box",
+    "cylinder",
+    "from_mesh",
     "rectangle",
 ]

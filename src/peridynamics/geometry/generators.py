@@ -52,8 +52,9 @@ def bar(
         x = origin + np.arange(n + 1) * dx
     else:
         x = _centres(origin, length, dx, "length")
-    return PointCloud(x=x[:, None], volume=np.full(len(x), area * dx), spacing=dx,
-                      cross_section=area)
+    return PointCloud(
+        x=x[:, None], volume=np.full(len(x), area * dx), spacing=dx, cross_section=area
+    )
 
 
 def rectangle(
@@ -69,8 +70,13 @@ def rectangle(
     ys = _centres(origin[1], size[1], dx, "size[1]")
     gx, gy = np.meshgrid(xs, ys, indexing="ij")
     x = np.column_stack([gx.ravel(), gy.ravel()])
-    cloud = PointCloud(x=x, volume=np.full(len(x), dx * dx * thickness), spacing=dx,
-                       cross_section=thickness, plane=plane)
+    cloud = PointCloud(
+        x=x,
+        volume=np.full(len(x), dx * dx * thickness),
+        spacing=dx,
+        cross_section=thickness,
+        plane=plane,
+    )
     return _cut(cloud, holes)
 
 

@@ -78,6 +78,7 @@ def from_mesh(
     if spacing is None:
         spacing = float(np.mean(size) ** (1.0 / dim))
     if dim == 2:
-        return PointCloud(x=x, volume=size * thickness, spacing=spacing,
-                          cross_section=thickness, plane=plane)
+        return PointCloud(
+            x=x, volume=size * thickness, spacing=spacing, cross_section=thickness, plane=plane
+        )
     return PointCloud(x=x, volume=size, spacing=spacing)

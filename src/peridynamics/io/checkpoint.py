@@ -14,8 +14,9 @@ from peridynamics.solvers.state import State
 CHECKPOINT_NAME = "checkpoint.npz"
 
 
-def write_checkpoint(out_dir: Path, state: State, records: dict[str, Any],
-                     fingerprint: str) -> Path:
+def write_checkpoint(
+    out_dir: Path, state: State, records: dict[str, Any], fingerprint: str
+) -> Path:
     """Write ``out_dir/checkpoint.npz`` atomically (write a temporary file, then rename)."""
     path = out_dir / CHECKPOINT_NAME
     tmp = out_dir / (CHECKPOINT_NAME + ".tmp")

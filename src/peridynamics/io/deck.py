@@ -387,7 +387,12 @@ class PressureBC(_OnSet):
 
 
 BoundaryCondition = Annotated[
-    DisplacementBC | VelocityBC | FixedBC | InitialVelocityBC | BodyForceBC | TractionBC
+    DisplacementBC
+    | VelocityBC
+    | FixedBC
+    | InitialVelocityBC
+    | BodyForceBC
+    | TractionBC
     | PressureBC,
     Field(discriminator="type"),
 ]
@@ -421,8 +426,9 @@ class Solver(Strict):
 
 
 # ----------------------------------------------------------------------------- output
-Quantity = Literal["displacement", "velocity", "force_density", "reaction_force",
-                   "max_stretch", "damage"]
+Quantity = Literal[
+    "displacement", "velocity", "force_density", "reaction_force", "max_stretch", "damage"
+]
 
 
 class Probe(Strict):
@@ -449,7 +455,11 @@ class Output(Strict):
     vtk_every: Annotated[int, Field(ge=0)] = 0
     history_every: Annotated[int, Field(gt=0)] = 10
     fields: list[Literal["displacement", "velocity", "damage", "force_density"]] = [
-        "displacement", "velocity", "damage", "force_density"]
+        "displacement",
+        "velocity",
+        "damage",
+        "force_density",
+    ]
     probes: list[Probe] = []
     crack_tip: CrackTip | None = None
     plot: Literal["auto", "damage", "probes", "none"] = "auto"
@@ -546,12 +556,18 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
     nu = deck.material.poisson_ratio
     if nu is not None and nu_fixed is not None and abs(nu - nu_fixed) > 1e-6:
         what = f"{dim}-D" + (f" plane {plane}" if dim == 2 else "")
-        errors.append(("material.poisson_ratio",
-                       f"bond-based PMB fixes nu = {nu_fixed:.6g} in {what}; got {nu} "
-                       "(omit poisson_ratio or set it to that value)"))
+        errors.append(
+            (
+                "material.poisson_ratio",
+                f"bond-based PMB fixes nu = {nu_fixed:.6g} in {what}; got {nu} "
+                "(omit poisson_ratio or set it to that value)",
+            )
+        )
     for n, name in enumerate(deck.damage.no_fail):
         if name not in sets:
-            errors.append((f"damage.no_fail.{n}", f"unknown node set {name!r}; known: {sorted(sets)}"))
+            errors.append(
+                (f"damage.no_fail.{n}", f"unknown node set {name!r}; known: {sorted(sets)}")
+            )
     for n, bc in enumerate(deck.boundary_conditions):
         path = f"boundary_conditions.{n}"
         if bc.set not in sets:
@@ -559,8 +575,9 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
         comps = getattr(bc, "components", None) or []
         for comp in comps:
             if "xyz".index(comp) >= dim:
-                errors.append((f"{path}.components.{comp}",
-                               f"component {comp!r} does not exist in {dim}-D"))
+                errors.append(
+                    (f"{path}.components.{comp}", f"component {comp!r} does not exist in {dim}-D")
+                )
         for key in ("value", "normal"):
             vec = getattr(bc, key, None)
             if isinstance(vec, list):
@@ -573,17 +590,26 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
             errors.append((f"precracks.{n}", "pre-cracks need a 2-D or 3-D model"))
             continue
         if len(crack.points) != want:
-            errors.append((f"precracks.{n}.points",
-                           f"a {dim}-D crack is {want} points, got {len(crack.points)}"))
+            errors.append(
+                (
+                    f"precracks.{n}.points",
+                    f"a {dim}-D crack is {want} points, got {len(crack.points)}",
+                )
+            )
         for k, p in enumerate(crack.points):
             _check_len(errors, f"precracks.{n}.points.{k}", p, dim)
     for n, probe in enumerate(deck.output.probes):
         if probe.set not in sets:
-            errors.append((f"output.probes.{n}.set",
-                           f"unknown node set {probe.set!r}; known: {sorted(sets)}"))
+            errors.append(
+                (f"output.probes.{n}.set", f"unknown node set {probe.set!r}; known: {sorted(sets)}")
+            )
         if probe.component in ("y", "z") and "xyz".index(probe.component) >= dim:
-            errors.append((f"output.probes.{n}.component",
-                           f"component {probe.component!r} does not exist in {dim}-D"))
+            errors.append(
+                (
+                    f"output.probes.{n}.component",
+                    f"component {probe.component!r} does not exist in {dim}-D",
+                )
+            )
     names = [p.name for p in deck.output.probes]
     dup = sorted({p for p in names if names.count(p) > 1})
     if dup:
@@ -604,9 +630,24 @@ def _format_loc(loc: tuple[Any, ...]) -> str:
     return ".".join(parts)
 
 
-_TYPE_TAGS = {"bar", "rectangle", "box", "cylinder", "mesh", "constant", "ramp", "table",
-              "triangular_pulse", "displacement", "velocity", "fixed", "initial_velocity",
-              "body_force", "traction", "pressure"}
+_TYPE_TAGS = {
+    "bar",
+    "rectangle",
+    "box",
+    "cylinder",
+    "mesh",
+    "constant",
+    "ramp",
+    "table",
+    "triangular_pulse",
+    "displacement",
+    "velocity",
+    "fixed",
+    "initial_velocity",
+    "body_force",
+    "traction",
+    "pressure",
+}
 
 
 def _clean_loc(loc: tuple[Any, ...]) -> tuple[Any, ...]:

@@ -25,8 +25,9 @@ def plot_damage(path: Path, x: NDArray, damage: NDArray, spacing: float, title: 
     aspect = float(span[1] / span[0]) if span[0] > 0 else 1.0
     fig, ax = plt.subplots(figsize=(8, max(2.5, min(8, 8 * aspect)) + 0.8))
     size = max(0.5, 6e4 / len(x)) if len(x) else 1
-    sc = ax.scatter(x[:, 0], x[:, 1], c=damage, s=size, cmap="jet", vmin=0, vmax=1,
-                    marker="s", linewidths=0)
+    sc = ax.scatter(
+        x[:, 0], x[:, 1], c=damage, s=size, cmap="jet", vmin=0, vmax=1, marker="s", linewidths=0
+    )
     ax.set_aspect("equal")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
@@ -37,8 +38,14 @@ def plot_damage(path: Path, x: NDArray, damage: NDArray, spacing: float, title: 
     plt.close(fig)
 
 
-def plot_histories(path: Path, time: list[float], series: dict[str, list[float]],
-                   title: str, xlabel: str = "time (us)", xscale: float = 1e6) -> None:
+def plot_histories(
+    path: Path,
+    time: list[float],
+    series: dict[str, list[float]],
+    title: str,
+    xlabel: str = "time (us)",
+    xscale: float = 1e6,
+) -> None:
     """One panel per series against time (plotted in us unless told otherwise)."""
     n = max(1, len(series))
     fig, axes = plt.subplots(n, 1, figsize=(8, 2.4 * n + 0.6), sharex=True, squeeze=False)

@@ -22,8 +22,9 @@ class _Indices(rg.Region):
         return out
 
 
-def to_region(spec: RegionSpec, known_sets: Mapping[str, np.ndarray] | None = None,
-              spacing: float = 0.0) -> rg.Region:
+def to_region(
+    spec: RegionSpec, known_sets: Mapping[str, np.ndarray] | None = None, spacing: float = 0.0
+) -> rg.Region:
     """Build a region from a validated spec; ``set`` refers to ``known_sets``;
     ``spacing`` (m) sizes ``edge`` layers."""
     k = spec.kind()

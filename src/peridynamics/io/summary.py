@@ -40,8 +40,9 @@ def _clean(v: Any) -> Any:
     return v
 
 
-def write_summary(path: Path, inputs: dict, results: dict, timing: dict,
-                  extra: dict | None = None) -> dict:
+def write_summary(
+    path: Path, inputs: dict, results: dict, timing: dict, extra: dict | None = None
+) -> dict:
     """Write summary.json atomically; returns the written mapping."""
     data = {"inputs": inputs, "results": results, "timing": timing, "versions": versions()}
     if extra:

@@ -26,16 +26,23 @@ def write_vtu(path: str | Path, x: NDArray, fields: dict[str, NDArray]) -> None:
     cells = [("vertex", np.arange(len(pts), dtype=np.int64)[:, None])]
     data = {k: _pad3(v) for k, v in fields.items()}
     tmp = Path(str(path) + ".tmp.vtu")
-    meshio.write(tmp, meshio.Mesh(pts, cells, point_data=data), file_format="vtu",
-                 binary=True, compression=None)
+    meshio.write(
+        tmp,
+        meshio.Mesh(pts, cells, point_data=data),
+        file_format="vtu",
+        binary=True,
+        compression=None,
+    )
     os.replace(tmp, path)
 
 
 def write_pvd(path: str | Path, frames: list[tuple[float, str]]) -> None:
     """Write a ParaView collection of (time, relative .vtu file name) entries."""
-    lines = ['<?xml version="1.0"?>',
-             '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
-             "  <Collection>"]
+    lines = [
+        '<?xml version="1.0"?>',
+        '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
+        "  <Collection>",
+    ]
     for t, name in frames:
         lines.append(f'    <DataSet timestep="{t!r}" group="" part="0" file={quoteattr(name)}/>')
     lines += ["  </Collection>", "</VTKFile>", ""]

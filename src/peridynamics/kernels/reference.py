@@ -23,8 +23,9 @@ def stretch(x: F, u: F, bond_i: NDArray, bond_j: NDArray, length: F) -> F:
     return (r - length) / length
 
 
-def force(x: F, u: F, bond_i: NDArray, bond_j: NDArray, length: F, stiffness: F,
-          intact: NDArray) -> F:
+def force(
+    x: F, u: F, bond_i: NDArray, bond_j: NDArray, length: F, stiffness: F, intact: NDArray
+) -> F:
     """Bond-based force density (N/m^3), shape (n_points, dim), without breaking."""
     e = bond_vectors(x, u, bond_i, bond_j)
     r = np.linalg.norm(e, axis=1)
@@ -35,8 +36,9 @@ def force(x: F, u: F, bond_i: NDArray, bond_j: NDArray, length: F, stiffness: F,
     return out
 
 
-def force_half_list(x: F, u: F, pair_i: NDArray, pair_j: NDArray, length: F,
-                    stiff_ij: F, stiff_ji: F) -> F:
+def force_half_list(
+    x: F, u: F, pair_i: NDArray, pair_j: NDArray, length: F, stiff_ij: F, stiff_ji: F
+) -> F:
     """Best plain-NumPy version: half list (i < j), one scatter per direction."""
     e = (x[pair_j] - x[pair_i]) + (u[pair_j] - u[pair_i])
     r = np.sqrt(np.einsum("ij,ij->i", e, e))
@@ -49,8 +51,9 @@ def force_half_list(x: F, u: F, pair_i: NDArray, pair_j: NDArray, length: F,
     return out
 
 
-def strain_energy_density(x: F, u: F, bond_i: NDArray, bond_j: NDArray, length: F,
-                          stiffness: F, intact: NDArray) -> F:
+def strain_energy_density(
+    x: F, u: F, bond_i: NDArray, bond_j: NDArray, length: F, stiffness: F, intact: NDArray
+) -> F:
     """W_i = 1/4 sum stiffness mu s^2 |xi| (J/m^3), shape (n_points,)."""
     s = stretch(x, u, bond_i, bond_j, length)
     return 0.25 * np.bincount(bond_i, stiffness * intact * s * s * length, minlength=len(x))

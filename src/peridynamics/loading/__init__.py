@@ -18,7 +18,16 @@ from peridynamics.loading.time_functions import (
 )
 
 __all__ = [
-    "TIME_FUNCTIONS", "BodyForce", "Constant", "Fixed", "InitialVelocity",
-    "PrescribedDisplacement", "PrescribedVelocity", "Ramp", "Table", "TimeFunction",
-    "TriangularPulse", "traction_as_body_force",
+    "TIME_FUNCTIONS",
+    "BodyForce",
+    "Constant",
+    "Fixed",
+    "InitialVelocity",
+    "PrescribedDisplacement",
+    "PrescribedVelocity",
+    "Ramp",
+    "Table",
+    "TimeFunction",
+    "TriangularPulse",
+    "traction_as_body_force",
 ]

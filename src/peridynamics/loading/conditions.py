@@ -135,8 +135,9 @@ def traction_as_body_force(
         layer_thickness = float(np.ptp(proj)) + spacing
     if not layer_thickness > 0:
         raise ValueError("traction layer_thickness must be > 0 m")
-    return BodyForce(nodes=nodes, value=tuple(traction / layer_thickness),
-                     function=function or Constant())
+    return BodyForce(
+        nodes=nodes, value=tuple(traction / layer_thickness), function=function or Constant()
+    )
 
 
 Kinematic = PrescribedDisplacement | PrescribedVelocity | Fixed

@@ -76,15 +76,20 @@ class BondBasedMaterial:
 
     def __post_init__(self) -> None:
         if not (self.youngs_modulus > 0 and math.isfinite(self.youngs_modulus)):
-            raise ValueError(f"youngs_modulus must be a finite value > 0 Pa, got {self.youngs_modulus}")
+            raise ValueError(
+                f"youngs_modulus must be a finite value > 0 Pa, got {self.youngs_modulus}"
+            )
         if not (self.density > 0 and math.isfinite(self.density)):
             raise ValueError(f"density must be a finite value > 0 kg/m^3, got {self.density}")
         if self.profile not in PROFILES:
-            raise ValueError(f"unknown micromodulus profile {self.profile!r}; use one of {PROFILES}")
+            raise ValueError(
+                f"unknown micromodulus profile {self.profile!r}; use one of {PROFILES}"
+            )
 
     # -- calibration ---------------------------------------------------------------
-    def micromodulus_constant(self, dim: int, horizon: float, cross_section: float,
-                              plane: str | None) -> float:
+    def micromodulus_constant(
+        self, dim: int, horizon: float, cross_section: float, plane: str | None
+    ) -> float:
         """Constant-profile micromodulus c (N/m^6), SPEC.md section 0.1."""
         E, d = self.youngs_modulus, horizon
         if dim == 1:
@@ -95,27 +100,36 @@ class BondBasedMaterial:
             return 9.0 * E / (math.pi * cross_section * d**3)
         return 12.0 * E / (math.pi * d**4)
 
-    def micromodulus(self, length: NDArray[np.float64], dim: int, horizon: float,
-                     cross_section: float, plane: str | None) -> NDArray[np.float64]:
+    def micromodulus(
+        self,
+        length: NDArray[np.float64],
+        dim: int,
+        horizon: float,
+        cross_section: float,
+        plane: str | None,
+    ) -> NDArray[np.float64]:
         """c(|xi|) for each bond length (N/m^6), shape like ``length``."""
         c = self.micromodulus_constant(dim, horizon, cross_section, plane)
         if self.profile == "constant":
             return np.full(np.shape(length), c)
         return (dim + 2) * c * np.clip(1.0 - np.asarray(length) / horizon, 0.0, None)
 
-    def bond_stiffness(self, cloud: PointCloud, bonds: Bonds,
-                       corrected: bool = True) -> NDArray[np.float64]:
+    def bond_stiffness(
+        self, cloud: PointCloud, bonds: Bonds, corrected: bool = True
+    ) -> NDArray[np.float64]:
         """stiffness_k = c(|xi_k|) * beta_k V_j * lambda_k (N/m^3 per unit stretch)."""
-        c = self.micromodulus(bonds.bond_length, cloud.dim, bonds.horizon,
-                              cloud.cross_section, cloud.plane)
+        c = self.micromodulus(
+            bonds.bond_length, cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
+        )
         k = c * bonds.bond_volume
         return k * bonds.bond_correction if corrected else k
 
     def _cross_factor(self, dim: int, cross_section: float) -> float:
         return {1: cross_section, 2: cross_section, 3: 1.0}[dim]
 
-    def uniaxial_energy_density(self, strain: float, dim: int, horizon: float,
-                                cross_section: float, plane: str | None) -> float:
+    def uniaxial_energy_density(
+        self, strain: float, dim: int, horizon: float, cross_section: float, plane: str | None
+    ) -> float:
         """Continuum (exact-integral) W for uniaxial strain in the infinite body (J/m^3).
 
         W = 1/4 eps^2 [int cos^4 dOmega] K int_0^delta c(r) r^d dr; equals E eps^2/2 in
@@ -123,13 +137,27 @@ class BondBasedMaterial:
         """
         c0 = self.micromodulus_constant(dim, horizon, cross_section, plane)
         scale = 1.0 if self.profile == "constant" else float(dim + 2)
-        moment = horizon ** (dim + 1) * (1.0 / (dim + 1) if self.profile == "constant"
-                                         else 1.0 / ((dim + 1) * (dim + 2)))
-        return (0.25 * strain**2 * _angular_cos4(dim) * self._cross_factor(dim, cross_section)
-                * scale * c0 * moment)
+        moment = horizon ** (dim + 1) * (
+            1.0 / (dim + 1) if self.profile == "constant" else 1.0 / ((dim + 1) * (dim + 2))
+        )
+        return (
+            0.25
+            * strain**2
+            * _angular_cos4(dim)
+            * self._cross_factor(dim, cross_section)
+            * scale
+            * c0
+            * moment
+        )
 
-    def critical_stretch(self, fracture_energy: float, dim: int, horizon: float,
-                         cross_section: float, plane: str | None) -> float:
+    def critical_stretch(
+        self,
+        fracture_energy: float,
+        dim: int,
+        horizon: float,
+        cross_section: float,
+        plane: str | None,
+    ) -> float:
         """s0 from G0 (J/m^2), see the module docstring."""
         if not fracture_energy > 0:
             raise ValueError(f"fracture_energy must be > 0 J/m^2, got {fracture_energy}")

@@ -36,8 +36,15 @@ class SimulationUnstable(RuntimeError):
     Attributes: step, time (s), point (index), coordinates (m), last_good (State).
     """
 
-    def __init__(self, message: str, step: int, time: float, point: int,
-                 coordinates: list[float], last_good: State | None) -> None:
+    def __init__(
+        self,
+        message: str,
+        step: int,
+        time: float,
+        point: int,
+        coordinates: list[float],
+        last_good: State | None,
+    ) -> None:
         super().__init__(message)
         self.step = step
         self.time = time
@@ -109,9 +116,17 @@ class ExplicitSolver:
         """State at t = 0: initial velocities, constraints, forces."""
         m = self.model
         n, d = m.n_points, m.dim
-        s = State(t=0.0, step=0, u=np.zeros((n, d)), v=np.zeros((n, d)),
-                  force=np.zeros((n, d)), body=np.zeros((n, d)), u_prev=np.zeros((n, d)),
-                  intact=m.bonds.bond_intact.copy(), max_stretch=np.zeros(n))
+        s = State(
+            t=0.0,
+            step=0,
+            u=np.zeros((n, d)),
+            v=np.zeros((n, d)),
+            force=np.zeros((n, d)),
+            body=np.zeros((n, d)),
+            u_prev=np.zeros((n, d)),
+            intact=m.bonds.bond_intact.copy(),
+            max_stretch=np.zeros(n),
+        )
         for iv in self.initial_velocities:
             iv.apply_initial(s.v)
         self._apply_constraints(s, 0.0)
@@ -138,8 +153,7 @@ class ExplicitSolver:
         if self.integrator == "velocity_verlet":
             integrators.kick_drift(s.u, s.v, s.force, s.body, self._inv_rho, dt)
         else:
-            integrators.central_difference(s.u, s.u_prev, s.v, s.force, s.body,
-                                           self._inv_rho, dt)
+            integrators.central_difference(s.u, s.u_prev, s.v, s.force, s.body, self._inv_rho, dt)
         for c in self.constraints:
             c.apply(s.u, s.v, t_new, dt)
         s.bonds_broken += m.internal_force(s.u, s.intact, s.force, s.max_stretch)
@@ -174,7 +188,11 @@ class ExplicitSolver:
                 f"{coords} has {what} (limit {limit:.3g} m = {self.blowup_factor} x model "
                 f"size). Reduce the time step (now {self.dt:.3g} s, stable limit "
                 f"{self.stable_time_step:.3g} s) or check the loads.",
-                step=s.step, time=s.t, point=k, coordinates=coords, last_good=self._last_good,
+                step=s.step,
+                time=s.t,
+                point=k,
+                coordinates=coords,
+                last_good=self._last_good,
             )
         good = self._last_good
         if good is None or good.u.shape != s.u.shape:

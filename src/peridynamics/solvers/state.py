@@ -41,9 +41,16 @@ class State:
 
     def copy(self) -> State:
         """Deep copy."""
-        return State(**{f.name: (getattr(self, f.name).copy()
-                                 if isinstance(getattr(self, f.name), np.ndarray)
-                                 else getattr(self, f.name)) for f in fields(self)})
+        return State(
+            **{
+                f.name: (
+                    getattr(self, f.name).copy()
+                    if isinstance(getattr(self, f.name), np.ndarray)
+                    else getattr(self, f.name)
+                )
+                for f in fields(self)
+            }
+        )
 
     def to_arrays(self) -> dict[str, np.ndarray]:
         """Flat dict of arrays (scalars as 0-d arrays) for checkpoints."""

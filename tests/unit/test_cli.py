@@ -1,0 +1,97 @@
+"""The command line: `peridynamics check` exit codes and messages, `examples` list / copy.
+
+Each test runs ``python -m peridynamics`` in a subprocess with the source tree on
+PYTHONPATH (so the tests work without installing the package).
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import yaml
+
+from peridynamics.io.deck import load_deck
+
+ROOT = Path(__file__).resolve().parents[2]
+SRC = ROOT / "src"
+EXAMPLES = ROOT / "examples"
+NAMES = ("crack_branching_2d", "bar_wave_1d", "plate_tension_2d")
+
+
+def cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
+    """Run ``python -m peridynamics ARGS``; returns the completed process."""
+    env = dict(os.environ)
+    if SRC.is_dir():
+        env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(SRC), env.get("PYTHONPATH")]))
+    return subprocess.run([sys.executable, "-m", "peridynamics", *map(str, args)],
+                          capture_output=True, text=True, env=env, cwd=cwd, timeout=60)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_check_example_exits_0(name: str) -> None:
+    deck = EXAMPLES / name / "deck.yaml"
+    proc = cli("check", deck)
+    assert proc.returncode == 0, proc.stderr
+    assert "valid" in proc.stdout and "points" in proc.stdout
+    assert proc.stderr == ""
+
+
+MALFORMED = """\
+name: broken
+geometry: {type: rectangle, size: [0.01, 0.005], thikness: 1.0e-3}
+discretisation: {spacing: 5.0e-4, horizon_factor: 3.015}
+material: {youngs_modulus: -70.0e9, density: 2700.0}
+solver: {end_time: 1.0e-6}
+"""
+
+
+def test_check_malformed_deck_exits_2_with_key_paths(tmp_path: Path) -> None:
+    deck = tmp_path / "deck.yaml"
+    deck.write_text(MALFORMED)
+    proc = cli("check", deck)
+    assert proc.returncode == 2
+    assert proc.stdout == ""
+    assert "invalid deck:" in proc.stderr
+    assert "geometry.thikness: unknown key" in proc.stderr
+    assert "material.youngs_modulus: Input should be greater than 0" in proc.stderr
+    assert "Traceback" not in proc.stderr
+
+
+def test_check_override_and_setup_errors(tmp_path: Path) -> None:
+    """A bad ``--set`` is validated like the deck; an empty node set is a set-up error."""
+    deck = tmp_path / "deck.yaml"
+    data = yaml.safe_load(MALFORMED)
+    del data["geometry"]["thikness"]
+    data["material"]["youngs_modulus"] = 70.0e9
+    data["node_sets"] = {"top": {"box": {"min": [0.0, 0.02], "max": [0.01, 0.03]}}}
+    deck.write_text(yaml.safe_dump(data))
+    proc = cli("check", deck, "--set", "solver.steps=10")
+    assert proc.returncode == 2
+    assert "solver.end_time: give exactly one of end_time (s) or steps" in proc.stderr
+    proc = cli("check", deck)  # valid schema, but the node set selects no point
+    assert proc.returncode == 2
+    assert "node_sets.top: selects no point" in proc.stderr
+
+
+def test_examples_lists_the_examples() -> None:
+    proc = cli("examples")
+    assert proc.returncode == 0, proc.stderr
+    listed = {line.split()[0] for line in proc.stdout.splitlines() if line.strip()}
+    assert set(NAMES) <= listed
+
+
+def test_examples_copy(tmp_path: Path) -> None:
+    dest = tmp_path / "mine"
+    proc = cli("examples", "copy", "bar_wave_1d", dest)
+    assert proc.returncode == 0, proc.stderr
+    copied = dest / "bar_wave_1d" / "deck.yaml"
+    assert copied.is_file()
+    assert copied.read_text() == (EXAMPLES / "bar_wave_1d" / "deck.yaml").read_text()
+    assert load_deck(copied).name == "bar_wave_1d"
+    proc = cli("examples", "copy", "no_such_example", dest)
+    assert proc.returncode == 2
+    assert "unknown example" in proc.stderr
