@@ -91,7 +91,10 @@ def build_cloud(deck: dk.Deck) -> PointCloud:
         visiting.add(name)
         spec = deck.node_sets[name]
         _collect_refs(spec, resolve)
-        idx = cloud.select(to_region(spec, sets, cloud.spacing))
+        try:
+            idx = cloud.select(to_region(spec, sets, cloud.spacing))
+        except ValueError as exc:
+            raise SetupError(f"node_sets.{name}", str(exc)) from None
         if idx.size == 0:
             raise SetupError(
                 f"node_sets.{name}",

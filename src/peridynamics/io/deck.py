@@ -14,6 +14,7 @@ from typing import Annotated, Any, Literal
 import yaml
 from pydantic import (
     BaseModel,
+    BeforeValidator,
     ConfigDict,
     Field,
     ValidationError,
@@ -21,9 +22,17 @@ from pydantic import (
     model_validator,
 )
 
-PosFloat = Annotated[float, Field(gt=0, allow_inf_nan=False)]
-NonNegFloat = Annotated[float, Field(ge=0, allow_inf_nan=False)]
-Finite = Annotated[float, Field(allow_inf_nan=False)]
+
+def _not_bool(v: Any) -> Any:
+    if isinstance(v, bool):
+        raise ValueError("a number is expected, not true/false")
+    return v
+
+
+_Num = BeforeValidator(_not_bool)
+PosFloat = Annotated[float, Field(gt=0, allow_inf_nan=False), _Num]
+NonNegFloat = Annotated[float, Field(ge=0, allow_inf_nan=False), _Num]
+Finite = Annotated[float, Field(allow_inf_nan=False), _Num]
 Component = Literal["x", "y", "z"]
 
 
@@ -46,8 +55,8 @@ class Strict(BaseModel):
 class BoxRegion(Strict):
     """Axis-aligned box; ``.inf`` / ``-.inf`` allowed for open sides."""
 
-    min: list[Annotated[float, Field(allow_inf_nan=True)]]
-    max: list[Annotated[float, Field(allow_inf_nan=True)]]
+    min: list[Annotated[float, Field(allow_inf_nan=True), _Num]]
+    max: list[Annotated[float, Field(allow_inf_nan=True), _Num]]
 
     @model_validator(mode="after")
     def _order(self) -> BoxRegion:
@@ -93,7 +102,7 @@ class EdgeRegion(Strict):
     """The outermost ``layers`` grid rows on the side the outward ``normal`` points to."""
 
     normal: list[Finite]
-    layers: Annotated[int, Field(ge=1)] = 1
+    layers: Annotated[int, Field(ge=1), _Num] = 1
 
 
 class RegionSpec(Strict):
@@ -114,7 +123,7 @@ class RegionSpec(Strict):
     any_of: list[RegionSpec] | None = Field(default=None, min_length=1)
     not_: RegionSpec | None = Field(default=None, alias="not")
 
-    model_config = ConfigDict(extra="forbid", frozen=True, populate_by_name=True)
+    model_config = ConfigDict(extra="forbid", frozen=True)
 
     @model_validator(mode="after")
     def _exactly_one(self) -> RegionSpec:
@@ -175,7 +184,7 @@ class MeshGeometry(Strict):
 
     type: Literal["mesh"]
     file: str
-    dim: Literal[2, 3] | None = None
+    dim: Literal[2, 3] | None = None  # None: 3 if the mesh has volume cells, else 2
     thickness: PosFloat = 1.0
     plane: Literal["stress", "strain"] = "stress"
 
@@ -203,7 +212,7 @@ class Discretisation(Strict):
 
     spacing: PosFloat
     horizon: PosFloat | None = None
-    horizon_factor: Annotated[float, Field(ge=1.0, allow_inf_nan=False)] | None = None
+    horizon_factor: Annotated[float, Field(ge=1.0, allow_inf_nan=False), _Num] | None = None
     partial_volume: Literal["truncated", "extended", "none"] = "truncated"
     surface_correction: bool = False
 
@@ -236,7 +245,7 @@ class Material(Strict):
     model: Literal["pmb", "bond_based"] = "pmb"
     youngs_modulus: PosFloat
     density: PosFloat
-    poisson_ratio: Annotated[float, Field(gt=-1.0, lt=0.5, allow_inf_nan=False)] | None = None
+    poisson_ratio: Annotated[float, Field(gt=-1.0, lt=0.5, allow_inf_nan=False), _Num] | None = None
     micromodulus_profile: Literal["constant", "conical"] = "constant"
 
 
@@ -411,12 +420,12 @@ class Solver(Strict):
     type: Literal["explicit"] = "explicit"
     integrator: Literal["velocity_verlet", "central_difference"] = "velocity_verlet"
     time_step: PosFloat | None = None
-    safety_factor: Annotated[float, Field(gt=0, le=1, allow_inf_nan=False)] = 0.8
+    safety_factor: Annotated[float, Field(gt=0, le=1, allow_inf_nan=False), _Num] = 0.8
     end_time: PosFloat | None = None
-    steps: Annotated[int, Field(gt=0)] | None = None
+    steps: Annotated[int, Field(gt=0), _Num] | None = None
     allow_unstable: bool = False
     blowup_factor: PosFloat = 1.0
-    check_every: Annotated[int, Field(gt=0)] = 10
+    check_every: Annotated[int, Field(gt=0), _Num] = 10
 
     @model_validator(mode="after")
     def _length(self) -> Solver:
@@ -446,14 +455,14 @@ class CrackTip(Strict):
 
     origin: list[Finite]
     direction: list[Finite] | None = None
-    damage_threshold: Annotated[float, Field(gt=0, lt=1)] = 0.35
+    damage_threshold: Annotated[float, Field(gt=0, lt=1), _Num] = 0.35
 
 
 class Output(Strict):
     """What to write."""
 
-    vtk_every: Annotated[int, Field(ge=0)] = 0
-    history_every: Annotated[int, Field(gt=0)] = 10
+    vtk_every: Annotated[int, Field(ge=0), _Num] = 0
+    history_every: Annotated[int, Field(gt=0), _Num] = 10
     fields: list[Literal["displacement", "velocity", "damage", "force_density"]] = [
         "displacement",
         "velocity",
@@ -484,8 +493,10 @@ class Deck(Strict):
     @classmethod
     def _names(cls, v: dict[str, RegionSpec]) -> dict[str, RegionSpec]:
         for name in v:
-            if not name or name == "all":
-                raise ValueError(f"node set name {name!r} is reserved or empty")
+            if not name:
+                raise ValueError("node set names must not be empty")
+            if name == "all":
+                raise ValueError("[all] 'all' is built in (every point); choose another name")
         return v
 
     @property
@@ -497,7 +508,13 @@ class Deck(Strict):
 # ----------------------------------------------------------- cross-field validation
 def _check_len(errors: list, path: str, vec: list | tuple | None, dim: int) -> None:
     if vec is not None and len(vec) != dim:
-        errors.append((path, f"needs {dim} components for a {dim}-D model, got {len(vec)}"))
+        what = "1 component" if dim == 1 else f"{dim} components"
+        errors.append((path, f"needs {what} for a {dim}-D model, got {len(vec)}"))
+
+
+def _check_nonzero(errors: list, path: str, vec: list | None) -> None:
+    if vec is not None and not any(vec):
+        errors.append((path, "must be a non-zero vector"))
 
 
 def _check_region(errors: list, path: str, r: RegionSpec, dim: int, sets: set[str]) -> None:
@@ -513,6 +530,7 @@ def _check_region(errors: list, path: str, r: RegionSpec, dim: int, sets: set[st
             errors.append((f"{path}.cylinder", "cylinder regions are 3-D"))
         _check_len(errors, f"{path}.cylinder.base", val.base, 3)
         _check_len(errors, f"{path}.cylinder.axis", val.axis, 3)
+        _check_nonzero(errors, f"{path}.cylinder.axis", val.axis)
     elif k == "polygon":
         if dim != 2:
             errors.append((f"{path}.polygon", "polygon regions are 2-D"))
@@ -521,12 +539,10 @@ def _check_region(errors: list, path: str, r: RegionSpec, dim: int, sets: set[st
     elif k == "half_space":
         _check_len(errors, f"{path}.half_space.point", val.point, dim)
         _check_len(errors, f"{path}.half_space.normal", val.normal, dim)
-        if not any(val.normal):
-            errors.append((f"{path}.half_space.normal", "must be non-zero"))
+        _check_nonzero(errors, f"{path}.half_space.normal", val.normal)
     elif k == "edge":
         _check_len(errors, f"{path}.edge.normal", val.normal, dim)
-        if not any(val.normal):
-            errors.append((f"{path}.edge.normal", "must be non-zero"))
+        _check_nonzero(errors, f"{path}.edge.normal", val.normal)
     elif k == "point":
         _check_len(errors, f"{path}.point", val, dim)
     elif k == "set":
@@ -537,6 +553,16 @@ def _check_region(errors: list, path: str, r: RegionSpec, dim: int, sets: set[st
             _check_region(errors, f"{path}.{k}.{n}", sub, dim, sets)
     elif k == "not_":
         _check_region(errors, f"{path}.not", val, dim, sets)
+
+
+def _uses(r: RegionSpec, kinds: set[str]) -> bool:
+    k = r.kind()
+    v = getattr(r, k)
+    if k in kinds:
+        return True
+    if k in ("all_of", "any_of"):
+        return any(_uses(x, kinds) for x in v)
+    return k == "not_" and _uses(v, kinds)
 
 
 def cross_check(deck: Deck) -> list[tuple[str, str]]:
@@ -550,6 +576,14 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
     for name, region in deck.node_sets.items():
         _check_region(errors, f"node_sets.{name}", region, dim, sets - {name})
     for n, hole in enumerate(getattr(g, "holes", [])):
+        if _uses(hole, {"edge", "set", "point"}):
+            errors.append(
+                (
+                    f"geometry.holes.{n}",
+                    "holes are shapes (box, circle, polygon, ...); edge, set and "
+                    "point regions only make sense for node sets",
+                )
+            )
         _check_region(errors, f"geometry.holes.{n}", hole, dim, set())
     plane = getattr(g, "plane", None)
     nu_fixed = fixed_poisson_ratio(dim, plane if dim == 2 else None)
@@ -563,6 +597,8 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
                 "(omit poisson_ratio or set it to that value)",
             )
         )
+    if deck.damage.model == "none" and deck.damage.no_fail:
+        errors.append(("damage.no_fail", "has no effect with model 'none'; remove it"))
     for n, name in enumerate(deck.damage.no_fail):
         if name not in sets:
             errors.append(
@@ -582,6 +618,8 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
             vec = getattr(bc, key, None)
             if isinstance(vec, list):
                 _check_len(errors, f"{path}.{key}", vec, dim)
+        if getattr(bc, "normal", None) is not None:
+            _check_nonzero(errors, f"{path}.normal", bc.normal)
         if getattr(bc, "type", "") == "traction" and bc.normal is None and not any(bc.value):
             errors.append((f"{path}.normal", "give a normal when the traction value is zero"))
     for n, crack in enumerate(deck.precracks):
@@ -598,6 +636,13 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
             )
         for k, p in enumerate(crack.points):
             _check_len(errors, f"precracks.{n}.points.{k}", p, dim)
+        if len(crack.points) == want and all(len(p) == dim for p in crack.points):
+            from peridynamics.bonds.precrack import make_crack
+
+            try:
+                make_crack(crack.points)
+            except ValueError as exc:
+                errors.append((f"precracks.{n}.points", str(exc)))
     for n, probe in enumerate(deck.output.probes):
         if probe.set not in sets:
             errors.append(
@@ -617,6 +662,7 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
     if deck.output.crack_tip is not None:
         _check_len(errors, "output.crack_tip.origin", deck.output.crack_tip.origin, dim)
         _check_len(errors, "output.crack_tip.direction", deck.output.crack_tip.direction, dim)
+        _check_nonzero(errors, "output.crack_tip.direction", deck.output.crack_tip.direction)
     return errors
 
 
@@ -662,6 +708,19 @@ def _clean_loc(loc: tuple[Any, ...]) -> tuple[Any, ...]:
     return tuple(out)
 
 
+_ALLOWED_TYPES = {
+    "geometry": "bar, rectangle, box, cylinder, mesh",
+    "boundary_conditions": "displacement, velocity, fixed, initial_velocity, body_force, "
+    "traction, pressure",
+    "time_function": "constant, ramp, table, triangular_pulse",
+}
+
+
+def _section_of(path: str) -> str:
+    parts = [p for p in path.split(".") if not p.isdigit()]
+    return parts[-1] if parts else ""
+
+
 def validation_errors(exc: ValidationError) -> list[tuple[str, str]]:
     """(key path, message) pairs from a pydantic error."""
     out = []
@@ -672,8 +731,14 @@ def validation_errors(exc: ValidationError) -> list[tuple[str, str]]:
             msg = "unknown key (check the spelling; docs/deck.md lists the allowed keys)"
         elif e["type"] == "missing":
             msg = "required key is missing"
-        elif e["type"] == "union_tag_invalid":
-            msg = f"{msg}"
+        elif e["type"] in ("union_tag_not_found", "union_tag_invalid"):
+            kinds = _ALLOWED_TYPES.get(_section_of(path), "")
+            missing = e["type"] == "union_tag_not_found"
+            msg = ("required key 'type' is missing" if missing else "unknown type") + (
+                f"; one of: {kinds}" if kinds else ""
+            )
+            if not missing:
+                path = f"{path}.type" if path else "type"
         msg = msg.removeprefix("Value error, ")
         if msg.startswith("[") and "] " in msg:  # validator names the offending key
             key, msg = msg[1:].split("] ", 1)
@@ -700,9 +765,13 @@ def apply_overrides(data: dict[str, Any], overrides: list[str]) -> dict[str, Any
             if isinstance(node, list):
                 try:
                     idx = int(part)
+                    if idx < 0:
+                        raise IndexError
                     node[idx]  # noqa: B018 - existence check
                 except (ValueError, IndexError):
-                    raise DeckError([(key, f"no list item {part!r}")]) from None
+                    raise DeckError(
+                        [(key, f"no list item {part!r} (indices start at 0)")]
+                    ) from None
                 if last:
                     node[idx] = value
                 else:
@@ -725,18 +794,37 @@ def parse_deck(data: Any, base_dir: Path | None = None) -> Deck:
         deck = Deck.model_validate(data)
     except ValidationError as exc:
         raise DeckError(validation_errors(exc)) from None
+    if isinstance(deck.geometry, MeshGeometry) and (
+        base_dir is not None or deck.geometry.dim is None
+    ):  # without base_dir and with dim given, the file is not looked up
+        deck = _resolve_mesh(deck, base_dir or Path.cwd())
     errors = cross_check(deck)
     if errors:
         raise DeckError(errors)
-    if isinstance(deck.geometry, MeshGeometry) and base_dir is not None:
-        path = Path(deck.geometry.file)
-        if not path.is_absolute():
-            path = base_dir / path
-        if not path.exists():
-            raise DeckError([("geometry.file", f"mesh file {str(path)!r} does not exist")])
-        geo = deck.geometry.model_copy(update={"file": str(path)})
-        deck = deck.model_copy(update={"geometry": geo})
     return deck
+
+
+def _resolve_mesh(deck: Deck, base_dir: Path) -> Deck:
+    """Make the mesh path absolute and fill ``dim`` from the mesh's cells if omitted."""
+    import meshio
+
+    g = deck.geometry
+    assert isinstance(g, MeshGeometry)
+    path = Path(g.file)
+    if not path.is_absolute():
+        path = base_dir / path
+    if not path.exists():
+        raise DeckError([("geometry.file", f"mesh file {str(path)!r} does not exist")])
+    update: dict[str, Any] = {"file": str(path)}
+    if g.dim is None:
+        try:
+            kinds = {blk.type for blk in meshio.read(path).cells}
+        except Exception as exc:  # meshio raises many types for unreadable files
+            raise DeckError(
+                [("geometry.file", f"meshio cannot read {str(path)!r}: {exc}")]
+            ) from None
+        update["dim"] = 3 if kinds & {"tetra", "hexahedron"} else 2
+    return deck.model_copy(update={"geometry": g.model_copy(update=update)})
 
 
 def load_deck(path: str | Path, overrides: list[str] | None = None) -> Deck:
