@@ -44,8 +44,9 @@ def test_box_and_ball_masks_match_their_definitions():
     assert bx(edge).tolist() == [True, True, False, True]
     slab = Box([-np.inf, 0.5], [np.inf, np.inf])
     assert np.array_equal(slab(P2), P2[:, 1] >= 0.5)
-    assert Ball([0.0, 0.0], 1.0)(np.array([[1.0, 0.0], [0.6, 0.8], [0.0, 1.0 + 1e-9]])).tolist() \
-        == [True, True, False]
+    assert Ball([0.0, 0.0], 1.0)(
+        np.array([[1.0, 0.0], [0.6, 0.8], [0.0, 1.0 + 1e-9]])
+    ).tolist() == [True, True, False]
     with pytest.raises(ValueError):
         Box([1.0, 0.0], [0.0, 1.0])
     with pytest.raises(ValueError):
@@ -99,8 +100,9 @@ def test_halfspace_nearest_point_and_cylinder():
 L_SHAPE = [(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)]
 
 
-@pytest.mark.parametrize("verts", [L_SHAPE, L_SHAPE[::-1],
-                                   [(0.1, -0.3), (1.7, 0.2), (0.9, 1.9), (0.6, 0.7)]])
+@pytest.mark.parametrize(
+    "verts", [L_SHAPE, L_SHAPE[::-1], [(0.1, -0.3), (1.7, 0.2), (0.9, 1.9), (0.6, 0.7)]]
+)
 def test_polygon_interior_matches_matplotlib(verts):
     poly = Polygon(verts)
     got = poly(P2)
@@ -114,13 +116,24 @@ def test_polygon_interior_matches_matplotlib(verts):
 
 def test_polygon_points_on_edges_and_vertices_are_inside():
     poly = Polygon(L_SHAPE)
-    on = np.array([
-        [0.0, 0.0], [2.0, 0.0], [1.0, 1.0], [0.0, 2.0],  # vertices (incl. the reflex one)
-        [1.0, 0.0], [2.0, 0.5], [1.5, 1.0], [1.0, 1.5], [0.5, 2.0], [0.0, 1.0],  # edges
-    ])
+    on = np.array(
+        [
+            [0.0, 0.0],
+            [2.0, 0.0],
+            [1.0, 1.0],
+            [0.0, 2.0],  # vertices (incl. the reflex one)
+            [1.0, 0.0],
+            [2.0, 0.5],
+            [1.5, 1.0],
+            [1.0, 1.5],
+            [0.5, 2.0],
+            [0.0, 1.0],  # edges
+        ]
+    )
     assert np.all(poly(on))
-    out = np.array([[1.5, 1.5], [2.0 + 1e-6, 0.5], [1.0 + 1e-6, 1.5], [-1e-6, 1.0],
-                    [0.5, 2.0 + 1e-6]])
+    out = np.array(
+        [[1.5, 1.5], [2.0 + 1e-6, 0.5], [1.0 + 1e-6, 1.5], [-1e-6, 1.0], [0.5, 2.0 + 1e-6]]
+    )
     assert not np.any(poly(out))
     tri = Polygon([(0, 0), (1, 0), (0, 1)])
     hyp = np.column_stack([np.linspace(0, 1, 11), 1 - np.linspace(0, 1, 11)])
@@ -169,8 +182,9 @@ def test_cylinder_keeps_exactly_the_grid_points_inside():
     g = np.column_stack([gx.ravel(), gy.ravel(), gz.ravel()])
     keep = np.hypot(g[:, 0] - 0.1, g[:, 1] - 0.2) <= r
     assert c.n_points == keep.sum()
-    assert {tuple(p) for p in np.round(c.x / 1e-5).astype(int)} == \
-        {tuple(p) for p in np.round(g[keep] / 1e-5).astype(int)}
+    assert {tuple(p) for p in np.round(c.x / 1e-5).astype(int)} == {
+        tuple(p) for p in np.round(g[keep] / 1e-5).astype(int)
+    }
     np.testing.assert_allclose(c.volume, dx**3)
 
 
@@ -225,14 +239,15 @@ def test_point_cloud_validation():
 # -- mesh import -----------------------------------------------------------------------
 def _quiet_from_mesh(*args, **kwargs):
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore", DeprecationWarning)  # see the xfail test below
+        warnings.simplefilter("ignore", DeprecationWarning)  # from other libraries
         return from_mesh(*args, **kwargs)
 
 
 def test_from_mesh_two_triangles():
     pts = np.array([[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 1.0, 0.0], [0.0, 1.0, 0.0]])
-    mesh = meshio.Mesh(pts, [("triangle", np.array([[0, 1, 2], [0, 2, 3]])),
-                             ("line", np.array([[0, 1]]))])
+    mesh = meshio.Mesh(
+        pts, [("triangle", np.array([[0, 1, 2], [0, 2, 3]])), ("line", np.array([[0, 1]]))]
+    )
     c = _quiet_from_mesh(mesh, thickness=0.1)
     assert c.dim == 2 and c.plane == "stress"
     np.testing.assert_allclose(c.x, [[4 / 3, 1 / 3], [2 / 3, 2 / 3]], rtol=1e-14)
@@ -248,23 +263,24 @@ def test_from_mesh_parallelogram_quad():
     np.testing.assert_allclose(c.x, [[1.25, 0.75]], rtol=1e-14)
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "src bug: from_mesh places quad/hexahedron points at the vertex mean, not at the "
-    "cell centroid its docstring promises; they differ for non-parallelogram cells"))
 def test_from_mesh_trapezoid_quad_centroid():
     pts = np.array([[0.0, 0.0], [2.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
     c = _quiet_from_mesh(meshio.Mesh(pts, [("quad", np.array([[0, 1, 2, 3]]))]))
     np.testing.assert_allclose(c.volume, [1.5], rtol=1e-14)
     # unit square (centroid (1/2, 1/2), area 1) + triangle (centroid (4/3, 1/3), area 1/2)
-    np.testing.assert_allclose(c.x, [[(0.5 + 0.5 * 4 / 3) / 1.5, (0.5 + 0.5 / 3) / 1.5]],
-                               rtol=1e-12)
+    np.testing.assert_allclose(
+        c.x, [[(0.5 + 0.5 * 4 / 3) / 1.5, (0.5 + 0.5 / 3) / 1.5]], rtol=1e-12
+    )
 
 
 def test_from_mesh_tetra_and_hexahedron():
-    pts = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0],
-                    [3.0, 3.0, 3.0]])
-    tet = meshio.Mesh(pts, [("tetra", np.array([[0, 1, 2, 3], [1, 2, 3, 4]])),
-                            ("triangle", np.array([[0, 1, 2]]))])
+    pts = np.array(
+        [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [3.0, 3.0, 3.0]]
+    )
+    tet = meshio.Mesh(
+        pts,
+        [("tetra", np.array([[0, 1, 2, 3], [1, 2, 3, 4]])), ("triangle", np.array([[0, 1, 2]]))],
+    )
     c = from_mesh(tet)
     assert c.dim == 3
     np.testing.assert_allclose(c.x, [[0.25, 0.25, 0.25], [1.0, 1.0, 1.0]], rtol=1e-14)
@@ -278,8 +294,7 @@ def test_from_mesh_tetra_and_hexahedron():
     hpts = np.array(base + [p + h for p in base])
     hexm = meshio.Mesh(hpts, [("hexahedron", np.arange(8)[None, :])])
     ch = from_mesh(hexm)
-    np.testing.assert_allclose(ch.volume, [abs(np.linalg.det(np.array([a, b, h])))],
-                               rtol=1e-13)
+    np.testing.assert_allclose(ch.volume, [abs(np.linalg.det(np.array([a, b, h])))], rtol=1e-13)
     np.testing.assert_allclose(ch.x, [(a + b + h) / 2], rtol=1e-14)
     # asking for the 2-D cloud of a mesh with volume cells uses its area cells
     c2 = _quiet_from_mesh(tet, dim=2)
@@ -296,9 +311,6 @@ def test_from_mesh_reads_a_file(tmp_path):
     np.testing.assert_allclose(c.volume, [1 / 6], rtol=1e-12)
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "src bug: mesh._triangle_area calls np.cross on 2-component vectors, deprecated "
-    "since NumPy 2.0 (DeprecationWarning now, an error in a future NumPy)"))
 def test_from_mesh_2d_uses_no_deprecated_numpy():
     pts = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
     with warnings.catch_warnings():

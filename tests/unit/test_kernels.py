@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import inspect
 
+import numba
 import numpy as np
 import pytest
 
@@ -26,8 +27,9 @@ def setup(dim: int, seed: int = 0):
     else:
         cloud = box((0.006, 0.005, 0.005), dx)
     x = cloud.x + rng.uniform(-0.2, 0.2, cloud.x.shape) * dx
-    cloud = PointCloud(x=x, volume=cloud.volume, spacing=dx, cross_section=cloud.cross_section,
-                       plane=cloud.plane)
+    cloud = PointCloud(
+        x=x, volume=cloud.volume, spacing=dx, cross_section=cloud.cross_section, plane=cloud.plane
+    )
     b = build_bonds(cloud, 3.015 * dx)
     stiffness = rng.uniform(0.5, 2.0, b.n_bonds) * 1e14
     u = rng.normal(0.0, 0.05 * dx, cloud.x.shape)
@@ -98,10 +100,10 @@ def test_energy_stretch_damage_and_time_step_kernels_match_twins(dim):
     cloud, b, k, u, intact = setup(dim, seed=2)
     n = cloud.n_points
     w = np.empty(n)
-    bond_based.strain_energy_density(cloud.x, u, b.offsets, b.bond_j, b.bond_length, k,
-                                     intact, w)
-    w_ref = reference.strain_energy_density(cloud.x, u, b.bond_i, b.bond_j, b.bond_length, k,
-                                            intact)
+    bond_based.strain_energy_density(cloud.x, u, b.offsets, b.bond_j, b.bond_length, k, intact, w)
+    w_ref = reference.strain_energy_density(
+        cloud.x, u, b.bond_i, b.bond_j, b.bond_length, k, intact
+    )
     np.testing.assert_allclose(w, w_ref, rtol=1e-12)
 
     s = np.empty(b.n_bonds)
@@ -111,8 +113,9 @@ def test_energy_stretch_damage_and_time_step_kernels_match_twins(dim):
 
     phi = np.empty(n)
     bond_based.damage(b.offsets, b.bond_volume, intact, phi)
-    np.testing.assert_allclose(phi, reference.damage(b.bond_i, b.bond_volume, intact, n),
-                               rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(
+        phi, reference.damage(b.bond_i, b.bond_volume, intact, n), rtol=1e-12, atol=1e-15
+    )
     # a hand-written loop as a third opinion on one point
     i = n // 2
     fam = slice(b.offsets[i], b.offsets[i + 1])
@@ -135,16 +138,31 @@ def test_damage_limits():
     np.testing.assert_allclose(phi, 1.0, rtol=0, atol=1e-15)
 
 
+def test_damage_of_intact_families_is_exactly_zero():
+    # compile the kernel afresh with its own options (a cached copy may hide the effect)
+    opts = {
+        k: v for k, v in bond_based.damage.targetoptions.items() if k not in ("cache", "nopython")
+    }
+    fresh = numba.njit(**opts)(bond_based.damage.py_func)
+    rng = np.random.default_rng(0)
+    sizes = rng.integers(1, 120, 5000)
+    offsets = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+    vol = rng.uniform(0.1, 1.0, offsets[-1]) * 1e-9
+    phi = np.empty(len(sizes))
+    fresh(offsets, vol, np.ones(len(vol), np.uint8), phi)
+    assert np.all(phi == 0.0), f"{np.count_nonzero(phi)} non-zero, min {phi.min():.3g}"
+
+
 def test_half_list_twin_matches_full_list_twin():
     cloud, b, _, u, _ = setup(2, seed=4)
     mat = BondBasedMaterial(70e9, 2700.0)
     k = mat.bond_stiffness(cloud, b)
     half = b.bond_i < b.bond_j
     r = b.reverse_index()
-    f_full = reference.force(cloud.x, u, b.bond_i, b.bond_j, b.bond_length, k,
-                             np.ones(b.n_bonds))
-    f_half = reference.force_half_list(cloud.x, u, b.bond_i[half], b.bond_j[half],
-                                       b.bond_length[half], k[half], k[r][half])
+    f_full = reference.force(cloud.x, u, b.bond_i, b.bond_j, b.bond_length, k, np.ones(b.n_bonds))
+    f_half = reference.force_half_list(
+        cloud.x, u, b.bond_i[half], b.bond_j[half], b.bond_length[half], k[half], k[r][half]
+    )
     assert max_rel_err(f_half, f_full) < 1e-12
 
 
@@ -166,8 +184,9 @@ def test_force_by_hand_three_points_1d():
     model.internal_force(u, b.bond_intact.copy(), force, np.empty(3))
     np.testing.assert_allclose(force[:, 0], [f0, f1, f2], rtol=1e-13)
     w = model.strain_energy_density(u, b.bond_intact)
-    w_hand = 0.25 * c * vol * np.array([s01**2 * 1 + s02**2 * 2, s01**2 + s12**2,
-                                        s12**2 + s02**2 * 2])
+    w_hand = (
+        0.25 * c * vol * np.array([s01**2 * 1 + s02**2 * 2, s01**2 + s12**2, s12**2 + s02**2 * 2])
+    )
     np.testing.assert_allclose(w, w_hand, rtol=1e-13)
 
 

@@ -27,8 +27,15 @@ def test_time_functions():
     tb = Table(times=[0.0, 1.0, 3.0], values=[0.0, 2.0, -2.0])
     assert [tb(t) for t in (-1.0, 0.5, 2.0, 5.0)] == [0.0, 1.0, 0.0, -2.0]
     p = TriangularPulse(peak=4.0, rise_time=1.0, duration=3.0)
-    assert [p(t) for t in (-1.0, 0.0, 0.5, 1.0, 2.0, 3.0, 4.0)] == \
-        [0.0, 0.0, 2.0, 4.0, 2.0, 0.0, 0.0]
+    assert [p(t) for t in (-1.0, 0.0, 0.5, 1.0, 2.0, 3.0, 4.0)] == [
+        0.0,
+        0.0,
+        2.0,
+        4.0,
+        2.0,
+        0.0,
+        0.0,
+    ]
     with pytest.raises(ValueError):
         Ramp(end=1.0, start=1.0)
     with pytest.raises(ValueError):
@@ -64,11 +71,16 @@ def test_traction_layer_and_body_force():
 
 def test_prescribed_velocity_and_body_force_in_a_run():
     cloud = bar(0.02, 1e-3, area=1e-6)
-    model = Model(cloud, build_bonds(cloud, 3e-3), BondBasedMaterial(200e9, 7850.0),
-                  body_forces=[BodyForce(np.array([10]), (1e6,), Ramp(end=1e-7))])
+    model = Model(
+        cloud,
+        build_bonds(cloud, 3e-3),
+        BondBasedMaterial(200e9, 7850.0),
+        body_forces=[BodyForce(np.array([10]), (1e6,), Ramp(end=1e-7))],
+    )
     end = np.array([19])
-    solver = ExplicitSolver(model, constraints=[PrescribedVelocity(end, {"x": 2.0}),
-                                                Fixed(np.array([0]))])
+    solver = ExplicitSolver(
+        model, constraints=[PrescribedVelocity(end, {"x": 2.0}), Fixed(np.array([0]))]
+    )
     s = solver.init()
     solver.run(s, 50)
     assert s.u[19, 0] == pytest.approx(2.0 * s.t, rel=1e-12)

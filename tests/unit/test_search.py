@@ -17,7 +17,7 @@ def naive_pairs(x: np.ndarray, radius: float) -> set[tuple[int, int]]:
     """All pairs i < j with |x_i - x_j| <= radius, by a plain double loop over i."""
     out = set()
     for i in range(len(x)):
-        d = np.sqrt(np.sum((x[i + 1:] - x[i]) ** 2, axis=1))
+        d = np.sqrt(np.sum((x[i + 1 :] - x[i]) ** 2, axis=1))
         for j in np.flatnonzero(d <= radius):
             out.add((i, i + 1 + int(j)))
     return out
@@ -38,8 +38,8 @@ def check_csr(offsets, bond_i, bond_j, n_points):
     assert np.all(np.diff(offsets) >= 0)
     assert np.all(np.diff(bond_i.astype(np.int64)) >= 0)
     for i in range(n_points):
-        fam_i = bond_i[offsets[i]:offsets[i + 1]]
-        fam_j = bond_j[offsets[i]:offsets[i + 1]]
+        fam_i = bond_i[offsets[i] : offsets[i + 1]]
+        fam_j = bond_j[offsets[i] : offsets[i + 1]]
         assert np.all(fam_i == i)
         assert np.all(np.diff(fam_j.astype(np.int64)) > 0), "family not sorted / duplicates"
         assert not np.any(fam_j == i), "self bond"
@@ -74,8 +74,9 @@ def test_find_pairs_on_grid_includes_pairs_exactly_at_radius():
 @settings(max_examples=25, deadline=None)
 @given(
     data=st.integers(1, 3).flatmap(
-        lambda d: arrays(np.int64, st.tuples(st.integers(2, 40), st.just(d)),
-                         elements=st.integers(0, 12))
+        lambda d: arrays(
+            np.int64, st.tuples(st.integers(2, 40), st.just(d)), elements=st.integers(0, 12)
+        )
     ),
     k=st.integers(0, 6),
 )
@@ -123,13 +124,22 @@ def _jittered():
     rng = np.random.default_rng(3)
     g = np.stack(np.meshgrid(np.arange(9.0), np.arange(7.0), indexing="ij"), -1).reshape(-1, 2)
     x = (g + rng.uniform(-0.3, 0.3, g.shape)) * 1e-3
-    return PointCloud(x=x, volume=rng.uniform(0.5, 1.5, len(x)) * 1e-6, spacing=1e-3,
-                      cross_section=1e-3, plane="strain")
+    return PointCloud(
+        x=x,
+        volume=rng.uniform(0.5, 1.5, len(x)) * 1e-6,
+        spacing=1e-3,
+        cross_section=1e-3,
+        plane="strain",
+    )
 
 
 # the jittered grid can leave a point alone with horizon = dx: not used there
-CASES = [(name, m) for name in sorted(CLOUDS) for m in (1.0, 2.0, 3.015)
-         if not (name == "jitter" and m == 1.0)]
+CASES = [
+    (name, m)
+    for name in sorted(CLOUDS)
+    for m in (1.0, 2.0, 3.015)
+    if not (name == "jitter" and m == 1.0)
+]
 
 
 @pytest.mark.parametrize(("name", "m"), CASES)
@@ -157,8 +167,9 @@ def test_build_bonds_csr_and_partial_volumes(name, m, rule):
     xi = cloud.x[b.bond_j] - cloud.x[b.bond_i]
     np.testing.assert_array_equal(b.bond_xi, xi)
     np.testing.assert_allclose(b.bond_length, np.linalg.norm(xi, axis=1), rtol=1e-15)
-    beta_b = np.array([want[(i, j)] for i, j in zip(b.bond_i.tolist(), b.bond_j.tolist(),
-                                                     strict=True)])
+    beta_b = np.array(
+        [want[(i, j)] for i, j in zip(b.bond_i.tolist(), b.bond_j.tolist(), strict=True)]
+    )
     np.testing.assert_allclose(b.bond_volume, beta_b * cloud.volume[b.bond_j], rtol=1e-12)
     assert np.all(b.bond_correction == 1.0) and np.all(b.bond_intact == 1)
 

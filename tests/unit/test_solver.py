@@ -18,8 +18,11 @@ DX = 1e-3
 
 def bar_model(horizon_ratio=1.0, rule="truncated"):
     cloud = bar(0.05, DX, area=1e-4)
-    return Model(cloud, build_bonds(cloud, horizon_ratio * DX, partial_volume=rule),
-                 BondBasedMaterial(E, RHO))
+    return Model(
+        cloud,
+        build_bonds(cloud, horizon_ratio * DX, partial_volume=rule),
+        BondBasedMaterial(E, RHO),
+    )
 
 
 def test_stable_time_step_1d_nearest_neighbour_equals_cfl():
@@ -30,7 +33,8 @@ def test_stable_time_step_1d_nearest_neighbour_equals_cfl():
     assert solver.stable_time_step == pytest.approx(DX / math.sqrt(E / RHO), rel=1e-12)
     assert solver.dt == pytest.approx(0.8 * solver.stable_time_step, rel=1e-15)
     assert ExplicitSolver(model, safety_factor=0.5).dt == pytest.approx(
-        0.5 * solver.stable_time_step, rel=1e-15)
+        0.5 * solver.stable_time_step, rel=1e-15
+    )
 
 
 def test_stable_time_step_1d_three_neighbours():
@@ -39,7 +43,8 @@ def test_stable_time_step_1d_three_neighbours():
     model = bar_model(3.0)
     acc = (4.0 / 9.0) * (1 + 0.5 + 1 / 6) * E / DX**2
     assert ExplicitSolver(model).stable_time_step == pytest.approx(
-        math.sqrt(2 * RHO / acc), rel=1e-12)
+        math.sqrt(2 * RHO / acc), rel=1e-12
+    )
 
 
 def test_time_step_above_limit_is_refused_unless_allowed():
@@ -64,8 +69,7 @@ def test_time_step_above_limit_is_refused_unless_allowed():
 def test_blow_up_is_reported_with_step_time_and_point(integrator):
     model = bar_model()
     stable = ExplicitSolver(model).stable_time_step
-    solver = ExplicitSolver(model, time_step=3 * stable, allow_unstable=True,
-                            integrator=integrator)
+    solver = ExplicitSolver(model, time_step=3 * stable, allow_unstable=True, integrator=integrator)
     s = solver.init()
     s.v[:] = np.random.default_rng(0).normal(0.0, 1.0, s.v.shape)  # m/s, noise
     if integrator == "central_difference":

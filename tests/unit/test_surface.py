@@ -26,7 +26,7 @@ def my_factors(cloud, bonds, raw_stiffness, w_inf, strain=1e-3):
         lam = w_inf / w
         g_k = 0.5 * (lam[bonds.bond_i] + lam[bonds.bond_j])
         acc += (bonds.bond_xi[:, k] / bonds.bond_length / g_k) ** 2
-    return acc ** -0.5
+    return acc**-0.5
 
 
 @pytest.mark.parametrize("dim", [2, 3])
@@ -37,20 +37,25 @@ def test_correction_factors_match_independent_recomputation(dim, profile):
     else:
         base = box((0.007, 0.006, 0.006), 1e-3)
     rng = np.random.default_rng(dim)
-    cloud = PointCloud(x=base.x + rng.uniform(-1e-4, 1e-4, base.x.shape), volume=base.volume,
-                       spacing=base.spacing, cross_section=base.cross_section, plane=base.plane)
+    cloud = PointCloud(
+        x=base.x + rng.uniform(-1e-4, 1e-4, base.x.shape),
+        volume=base.volume,
+        spacing=base.spacing,
+        cross_section=base.cross_section,
+        plane=base.plane,
+    )
     bonds = build_bonds(cloud, 3.015e-3)
     mat = BondBasedMaterial(E, RHO, profile=profile)
     model = Model(cloud, bonds, mat, surface_correction=True)
     raw = mat.bond_stiffness(cloud, bonds, corrected=False)
-    w_inf = mat.uniaxial_energy_density(1e-3, dim, bonds.horizon, cloud.cross_section,
-                                        cloud.plane)
+    w_inf = mat.uniaxial_energy_density(1e-3, dim, bonds.horizon, cloud.cross_section, cloud.plane)
     mine = my_factors(cloud, bonds, raw, w_inf)
     np.testing.assert_allclose(model.bonds.bond_correction, mine, rtol=1e-6)
     np.testing.assert_allclose(model.stiffness, raw * mine, rtol=1e-6)
     rev = bonds.reverse_index()
-    np.testing.assert_allclose(model.bonds.bond_correction,
-                               model.bonds.bond_correction[rev], rtol=1e-14)
+    np.testing.assert_allclose(
+        model.bonds.bond_correction, model.bonds.bond_correction[rev], rtol=1e-14
+    )
 
 
 def test_interior_factor_is_continuum_over_lattice_energy():

@@ -31,8 +31,11 @@ def shape(profile: str, t):
 
 def c_profile(mat, dim, delta, plane, profile):
     c0 = mat.micromodulus_constant(dim, delta, H, plane)
-    return (lambda t: c0 * shape(profile, t)) if profile == "constant" else \
-        (lambda t: (dim + 2) * c0 * shape(profile, t))
+    return (
+        (lambda t: c0 * shape(profile, t))
+        if profile == "constant"
+        else (lambda t: (dim + 2) * c0 * shape(profile, t))
+    )
 
 
 def fracture_energy_quadrature(mat, dim, delta, plane, s0):
@@ -40,27 +43,45 @@ def fracture_energy_quadrature(mat, dim, delta, plane, s0):
     c = c_profile(mat, dim, delta, plane, mat.profile)
     if dim == 1:
         # G0 A = int_0^1 A dz int_0^{1-z} A w(z + y) dy  (lengths in units of delta)
-        val, _ = integrate.dblquad(lambda y, z: c(z + y) * (z + y) / 2, 0, 1,
-                                   0, lambda z: 1 - z, **OPTS)
+        val, _ = integrate.dblquad(
+            lambda y, z: c(z + y) * (z + y) / 2, 0, 1, 0, lambda z: 1 - z, **OPTS
+        )
         return H * s0**2 * val * delta**3
     if dim == 2:
         # G0 h = int_0^1 h dz int_0^{1-z} dy int_{-X}^{X} h w(r) dx, X = sqrt(1 - (y+z)^2)
         def f(x, y, z):
             r = math.hypot(x, y + z)
             return c(r) * r / 2 if r < 1 else 0.0
-        val, _ = integrate.tplquad(f, 0, 1, 0, lambda z: 1 - z,
-                                   lambda z, y: -math.sqrt(max(0.0, 1 - (y + z) ** 2)),
-                                   lambda z, y: math.sqrt(max(0.0, 1 - (y + z) ** 2)),
-                                   epsabs=0.0, epsrel=1e-9)
+
+        val, _ = integrate.tplquad(
+            f,
+            0,
+            1,
+            0,
+            lambda z: 1 - z,
+            lambda z, y: -math.sqrt(max(0.0, 1 - (y + z) ** 2)),
+            lambda z, y: math.sqrt(max(0.0, 1 - (y + z) ** 2)),
+            epsabs=0.0,
+            epsrel=1e-9,
+        )
         return H * s0**2 * val * delta**4
     # 3-D, axisymmetric about the normal through i: dV_j = 2 pi rho d(rho) dy
 
     def f3(rho, y, z):
         r = math.hypot(rho, y + z)
         return 2 * math.pi * rho * c(r) * r / 2 if r < 1 else 0.0
-    val, _ = integrate.tplquad(f3, 0, 1, 0, lambda z: 1 - z, 0,
-                               lambda z, y: math.sqrt(max(0.0, 1 - (y + z) ** 2)),
-                               epsabs=0.0, epsrel=1e-9)
+
+    val, _ = integrate.tplquad(
+        f3,
+        0,
+        1,
+        0,
+        lambda z: 1 - z,
+        0,
+        lambda z, y: math.sqrt(max(0.0, 1 - (y + z) ** 2)),
+        epsabs=0.0,
+        epsrel=1e-9,
+    )
     return s0**2 * val * delta**5
 
 
@@ -82,17 +103,20 @@ def test_critical_stretch_closed_forms(delta, g0):
     mat = BondBasedMaterial(E, RHO)
     k_bulk = E / (3 * (1 - 2 * 0.25))
     cs = mat.critical_stretch
-    assert cs(g0, 1, delta, H, None) == pytest.approx(math.sqrt(3 * g0 / (E * delta)),
-                                                      rel=1e-12)
+    assert cs(g0, 1, delta, H, None) == pytest.approx(math.sqrt(3 * g0 / (E * delta)), rel=1e-12)
     assert cs(g0, 2, delta, H, "stress") == pytest.approx(
-        math.sqrt(4 * math.pi * g0 / (9 * E * delta)), rel=1e-12)
+        math.sqrt(4 * math.pi * g0 / (9 * E * delta)), rel=1e-12
+    )
     assert cs(g0, 2, delta, H, "strain") == pytest.approx(
-        math.sqrt(5 * math.pi * g0 / (12 * E * delta)), rel=1e-12)
+        math.sqrt(5 * math.pi * g0 / (12 * E * delta)), rel=1e-12
+    )
     assert cs(g0, 3, delta, 1.0, None) == pytest.approx(
-        math.sqrt(5 * g0 / (9 * k_bulk * delta)), rel=1e-12)
+        math.sqrt(5 * g0 / (9 * k_bulk * delta)), rel=1e-12
+    )
     # independent of the 2-D thickness / 1-D area (they cancel)
-    assert cs(g0, 2, delta, 7 * H, "stress") == pytest.approx(cs(g0, 2, delta, H, "stress"),
-                                                              rel=1e-12)
+    assert cs(g0, 2, delta, 7 * H, "stress") == pytest.approx(
+        cs(g0, 2, delta, H, "stress"), rel=1e-12
+    )
     with pytest.raises(ValueError):
         cs(0.0, 2, delta, H, "stress")
 
@@ -109,13 +133,26 @@ def test_micromodulus_reproduces_classical_energy_by_quadrature(dim, plane, prof
         val = 2 * integrate.quad(lambda r: c(r) * r, 0, 1, **OPTS)[0] * H
         w = 0.25 * eps**2 * val * delta**2
     elif dim == 2:  # dV = h r dr dtheta
-        val = integrate.dblquad(lambda r, th: c(r) * math.cos(th) ** 4 * r * r,
-                                0, 2 * math.pi, 0, 1, **OPTS)[0] * H
+        val = (
+            integrate.dblquad(
+                lambda r, th: c(r) * math.cos(th) ** 4 * r * r, 0, 2 * math.pi, 0, 1, **OPTS
+            )[0]
+            * H
+        )
         w = 0.25 * eps**2 * val * delta**3
     else:  # dV = r^2 sin(phi) dr dphi dtheta, theta integrated (2 pi)
-        val = 2 * math.pi * integrate.dblquad(
-            lambda r, ph: c(r) * math.cos(ph) ** 4 * r**3 * math.sin(ph),
-            0, math.pi, 0, 1, **OPTS)[0]
+        val = (
+            2
+            * math.pi
+            * integrate.dblquad(
+                lambda r, ph: c(r) * math.cos(ph) ** 4 * r**3 * math.sin(ph),
+                0,
+                math.pi,
+                0,
+                1,
+                **OPTS,
+            )[0]
+        )
         w = 0.25 * eps**2 * val * delta**4
     classical = {1: 0.5, 2: 9 / 16 if plane == "stress" else 0.6, 3: 0.6}[dim] * E * eps**2
     assert w == pytest.approx(classical, rel=1e-9)
@@ -126,8 +163,11 @@ def test_micromodulus_reproduces_classical_energy_by_quadrature(dim, plane, prof
 
 
 def test_material_validation():
-    for bad in [dict(youngs_modulus=0.0, density=1.0), dict(youngs_modulus=1.0, density=-1.0),
-                dict(youngs_modulus=math.inf, density=1.0)]:
+    for bad in [
+        dict(youngs_modulus=0.0, density=1.0),
+        dict(youngs_modulus=1.0, density=-1.0),
+        dict(youngs_modulus=math.inf, density=1.0),
+    ]:
         with pytest.raises(ValueError):
             BondBasedMaterial(**bad)
     with pytest.raises(ValueError, match="profile"):
@@ -140,7 +180,9 @@ def test_micromodulus_constants():
     d = 3e-3
     assert mat.micromodulus_constant(1, d, H, None) == pytest.approx(2 * E / (H * d**2))
     assert mat.micromodulus_constant(2, d, H, "stress") == pytest.approx(
-        9 * E / (math.pi * H * d**3))
+        9 * E / (math.pi * H * d**3)
+    )
     assert mat.micromodulus_constant(2, d, H, "strain") == pytest.approx(
-        48 * E / (5 * math.pi * H * d**3))
+        48 * E / (5 * math.pi * H * d**3)
+    )
     assert mat.micromodulus_constant(3, d, 1.0, None) == pytest.approx(12 * E / (math.pi * d**4))

@@ -26,20 +26,26 @@ def irregular_cloud(dim: int, seed: int) -> PointCloud:
         base = box((0.005, 0.005, 0.004), DX)
     x = base.x + rng.uniform(-0.15, 0.15, base.x.shape) * DX
     vol = base.volume * rng.uniform(0.7, 1.3, base.n_points)
-    return PointCloud(x=x, volume=vol, spacing=DX, cross_section=base.cross_section,
-                      plane=base.plane)
+    return PointCloud(
+        x=x, volume=vol, spacing=DX, cross_section=base.cross_section, plane=base.plane
+    )
 
 
 @pytest.mark.parametrize("dim", [1, 2, 3])
-@pytest.mark.parametrize(("profile", "correction"),
-                         [("constant", False), ("constant", True), ("conical", False),
-                          ("conical", True)])
+@pytest.mark.parametrize(
+    ("profile", "correction"),
+    [("constant", False), ("constant", True), ("conical", False), ("conical", True)],
+)
 def test_force_is_minus_energy_gradient(dim, profile, correction):
     rng = np.random.default_rng(100 * dim + (profile == "conical") + 2 * correction)
     cloud = irregular_cloud(dim, seed=dim)
     bonds = build_bonds(cloud, 3.015 * DX)
-    model = Model(cloud, bonds, BondBasedMaterial(70e9, 2700.0, profile=profile),
-                  surface_correction=correction)
+    model = Model(
+        cloud,
+        bonds,
+        BondBasedMaterial(70e9, 2700.0, profile=profile),
+        surface_correction=correction,
+    )
     if correction:  # the correction really changes the stiffness
         assert np.ptp(model.bonds.bond_correction) > 0.05
     intact = model.bonds.bond_intact.copy()
@@ -63,8 +69,9 @@ def test_internal_forces_sum_to_zero_and_have_no_torque():
     """Pairwise central forces: sum V_i f_i = 0 and sum y_i x V_i f_i = 0 (2-D)."""
     cloud = irregular_cloud(2, seed=9)
     bonds = build_bonds(cloud, 3.015 * DX)
-    model = Model(cloud, bonds, BondBasedMaterial(70e9, 2700.0, profile="conical"),
-                  surface_correction=True)
+    model = Model(
+        cloud, bonds, BondBasedMaterial(70e9, 2700.0, profile="conical"), surface_correction=True
+    )
     u = np.random.default_rng(1).normal(0.0, 0.05 * DX, cloud.x.shape)
     f = np.empty_like(u)
     model.internal_force(u, bonds.bond_intact.copy(), f, np.empty(cloud.n_points))

@@ -121,11 +121,13 @@ def test_continuum_uniaxial_energy_matches_classical_elasticity(dim, plane, prof
         w = mat.uniaxial_energy_density(eps, dim, delta, area, plane)
         assert w == pytest.approx(classical_uniaxial_w(dim, plane, eps), rel=1e-12)
     if dim == 2 and plane == "stress":
-        assert mat.uniaxial_energy_density(1e-3, 2, 1e-3, 1.0, "stress") == \
-            pytest.approx(9 / 16 * E * 1e-6, rel=1e-12)
+        assert mat.uniaxial_energy_density(1e-3, 2, 1e-3, 1.0, "stress") == pytest.approx(
+            9 / 16 * E * 1e-6, rel=1e-12
+        )
     if dim == 3:
-        assert mat.uniaxial_energy_density(1e-3, 3, 1e-3, 1.0, None) == \
-            pytest.approx(0.6 * E * 1e-6, rel=1e-12)
+        assert mat.uniaxial_energy_density(1e-3, 3, 1e-3, 1.0, None) == pytest.approx(
+            0.6 * E * 1e-6, rel=1e-12
+        )
 
 
 @pytest.mark.parametrize("dim", [1, 2, 3])
@@ -224,8 +226,9 @@ def test_boundary_layer_energy_3d(k):
     out = {}
     for corr in (False, True):
         model = Model(cloud, bonds, mat, surface_correction=corr)
-        out[corr] = layer_means(3, to_face, bonds.horizon,
-                                model.strain_energy_density(u, bonds.bond_intact))
+        out[corr] = layer_means(
+            3, to_face, bonds.horizon, model.strain_energy_density(u, bonds.bond_intact)
+        )
     assert abs(out[True][0] / w_c - 1) < 0.05 < abs(out[False][0] / w_c - 1)
     for face, wm in out[True][1].items():
         err_c, err_u = abs(wm / w_c - 1), abs(out[False][1][face] / w_c - 1)
@@ -242,8 +245,9 @@ def test_boundary_layer_energy_1d():
     errs = []
     for corr in (False, True):
         model = Model(cloud, bonds, mat, surface_correction=corr)
-        mean, _, n_layer = layer_means(1, to_face, bonds.horizon,
-                                       model.strain_energy_density(u, bonds.bond_intact))
+        mean, _, n_layer = layer_means(
+            1, to_face, bonds.horizon, model.strain_energy_density(u, bonds.bond_intact)
+        )
         assert n_layer == 6
         errs.append(abs(mean / w_c - 1))
     assert errs[1] < 0.5 * errs[0] and errs[1] < 0.10 and errs[0] > 0.05

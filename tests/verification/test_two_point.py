@@ -52,8 +52,10 @@ def measured_period(times, r):
 def test_two_point_bond_period(integrator, volumes):
     model, period = two_points(*volumes)
     vel = 0.5  # m/s, equal and opposite: r'(0) = 2 vel
-    ivs = [InitialVelocity(nodes=np.array([0]), value=tuple(-vel * DIR)),
-           InitialVelocity(nodes=np.array([1]), value=tuple(vel * DIR))]
+    ivs = [
+        InitialVelocity(nodes=np.array([0]), value=tuple(-vel * DIR)),
+        InitialVelocity(nodes=np.array([1]), value=tuple(vel * DIR)),
+    ]
     dt = period / 300
     solver = ExplicitSolver(model, time_step=dt, integrator=integrator, initial_velocities=ivs)
     assert dt < solver.stable_time_step

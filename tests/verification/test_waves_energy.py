@@ -57,8 +57,12 @@ def _plate_with_smooth_velocity(correction: bool, seed: int = 0):
     E, rho, dx = 70e9, 2700.0, 1e-3
     lx, ly = 0.02, 0.016
     cloud = rectangle((lx, ly), dx)
-    model = Model(cloud, build_bonds(cloud, 3.015 * dx), BondBasedMaterial(E, rho),
-                  surface_correction=correction)
+    model = Model(
+        cloud,
+        build_bonds(cloud, 3.015 * dx),
+        BondBasedMaterial(E, rho),
+        surface_correction=correction,
+    )
     solver = ExplicitSolver(model)  # 0.8 x stable
     s = solver.init()
     rng = np.random.default_rng(seed)
@@ -66,8 +70,11 @@ def _plate_with_smooth_velocity(correction: bool, seed: int = 0):
     for comp in range(2):
         for m in range(3):
             for n in range(3):
-                s.v[:, comp] += rng.normal() * np.cos(m * np.pi * x + rng.uniform(0, 6)) * \
-                    np.cos(n * np.pi * y + rng.uniform(0, 6))
+                s.v[:, comp] += (
+                    rng.normal()
+                    * np.cos(m * np.pi * x + rng.uniform(0, 6))
+                    * np.cos(n * np.pi * y + rng.uniform(0, 6))
+                )
     s.v *= 0.1  # m/s: strains of order 1e-5, linear regime
     return model, solver, s
 
@@ -89,16 +96,19 @@ def test_velocity_verlet_conserves_energy_without_damage(correction):
 
     e0, sh0 = energies(s)
     total, shadow = [], []
-    for st in solver.irun(s, 2000):
-        if st.step % 10 == 0:
-            t, sh = energies(st)
-            total.append(t)
-            shadow.append(sh)
+    for st in solver.irun(s, 2000):  # every step: no aliasing of the O(dt^2) oscillation
+        t, sh = energies(st)
+        total.append(t)
+        shadow.append(sh)
     total, shadow = np.array(total) / e0, np.array(shadow) / sh0
     assert np.abs(shadow - 1).max() < 1e-4  # measured ~1e-6 (geometric nonlinearity)
     assert np.abs(total - 1).max() < 3e-2  # bounded O((omega dt)^2) oscillation
     q = len(total) // 4
-    assert abs(total[-q:].mean() - total[:q].mean()) < 1e-3  # no secular drift
+    # no secular drift: window means and the least-squares trend of K + U over the 2000
+    # steps both move by < 1e-4 of the energy (measured 2e-5..4e-5)
+    assert abs(total[-q:].mean() - total[:q].mean()) < 1e-4
+    trend = np.polyfit(np.linspace(0.0, 1.0, len(total)), total, 1)[0]
+    assert abs(trend) < 1e-4
     assert s.bonds_broken == 0
     # momentum: the initial field has a net momentum that must be kept exactly
     p0 = rho_v @ _plate_with_smooth_velocity(correction)[2].v

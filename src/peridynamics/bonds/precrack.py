@@ -61,7 +61,7 @@ class RectangleCrack:
         db = (b - p0) @ nrm
         opposite = (da * db <= 0) & (da != db)
         with np.errstate(divide="ignore", invalid="ignore"):
-            lam = da / (da - db)
+            lam = np.where(opposite, da / np.where(opposite, da - db, 1.0), 0.0)
         hit_pt = a + lam[:, None] * (b - a)
         rel = hit_pt - p0
         # coordinates in the (ea, eb) basis via the 2x2 Gram system

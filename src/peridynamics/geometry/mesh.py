@@ -15,9 +15,11 @@ _VOLUME_CELLS = {"tetra", "hexahedron"}
 
 
 def _triangle_area(p: NDArray[np.float64]) -> NDArray[np.float64]:
-    a, b, c = p[:, 0], p[:, 1], p[:, 2]
-    cr = np.cross(b - a, c - a)
-    return 0.5 * (np.abs(cr) if cr.ndim == 1 else np.linalg.norm(cr, axis=1))
+    """Areas of triangles p (n, 3, 2 or 3)."""
+    e1, e2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]
+    if p.shape[2] == 2:
+        return 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
+    return 0.5 * np.linalg.norm(np.cross(e1, e2), axis=1)
 
 
 def _tet_volume(p: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -25,16 +27,39 @@ def _tet_volume(p: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.abs(np.einsum("ij,ij->i", b - a, np.cross(c - a, d - a))) / 6.0
 
 
-def _cell_measures(kind: str, pts: NDArray[np.float64]) -> NDArray[np.float64]:
-    if kind == "triangle":
-        return _triangle_area(pts)
-    if kind == "quad":  # split into two triangles
-        return _triangle_area(pts[:, [0, 1, 2]]) + _triangle_area(pts[:, [0, 2, 3]])
-    if kind == "tetra":
-        return _tet_volume(pts)
-    # hexahedron: split into 6 tetrahedra around the 0-6 diagonal (VTK ordering)
-    tets = [(0, 1, 2, 6), (0, 2, 3, 6), (0, 3, 7, 6), (0, 7, 4, 6), (0, 4, 5, 6), (0, 5, 1, 6)]
-    return sum(_tet_volume(pts[:, list(t)]) for t in tets)
+#: simplex decompositions of the cells: triangles of a quad, tetrahedra of a hexahedron
+#: (VTK ordering, split around the 0-6 diagonal)
+_SPLITS = {
+    "triangle": [(0, 1, 2)],
+    "quad": [(0, 1, 2), (0, 2, 3)],
+    "tetra": [(0, 1, 2, 3)],
+    "hexahedron": [
+        (0, 1, 2, 6),
+        (0, 2, 3, 6),
+        (0, 3, 7, 6),
+        (0, 7, 4, 6),
+        (0, 4, 5, 6),
+        (0, 5, 1, 6),
+    ],
+}
+
+
+def _cell_centroids_and_measures(
+    kind: str, pts: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Centroids (n, dim) and areas/volumes (n,) of cells with vertices pts (n, k, dim),
+    exact for straight-edged cells: the measure-weighted mean of simplex centroids."""
+    measure = _triangle_area if kind in ("triangle", "quad") else _tet_volume
+    total = np.zeros(len(pts))
+    moment = np.zeros((len(pts), pts.shape[2]))
+    for simplex in _SPLITS[kind]:
+        sub = pts[:, list(simplex)]
+        w = measure(sub)
+        total += w
+        moment += w[:, None] * sub.mean(axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        centroid = np.where(total[:, None] > 0, moment / total[:, None], pts.mean(axis=1))
+    return centroid, total
 
 
 def from_mesh(
@@ -45,6 +70,9 @@ def from_mesh(
     spacing: float | None = None,
 ) -> PointCloud:
     """Build a cloud with one point per cell at its centroid and the cell's volume.
+
+    Centroids and measures are exact for straight-edged cells (triangles, quads,
+    tetrahedra, hexahedra; quads and hexahedra through a simplex split).
 
     Parameters
     ----------
@@ -66,8 +94,9 @@ def from_mesh(
         if blk.type not in wanted:
             continue
         pts = np.asarray(mesh.points, dtype=float)[blk.data][:, :, :dim]
-        centres.append(pts.mean(axis=1))
-        measures.append(_cell_measures(blk.type, pts))
+        centre, size = _cell_centroids_and_measures(blk.type, pts)
+        centres.append(centre)
+        measures.append(size)
     if not centres:
         raise ValueError(
             f"mesh has no {'/'.join(sorted(wanted))} cells for a {dim}-D cloud "

@@ -229,17 +229,22 @@ def first_bad_point(u, v, limit):
     return k if k < n else -1
 
 
-@njit(**_JIT)
+@njit(parallel=True, fastmath=False, cache=True)
 def damage(offsets, bond_volume, intact, out):
-    """Local damage phi_i = 1 - sum mu_k V_k / sum V_k (seed 000 eq. 7), shape (n,)."""
+    """Local damage phi_i = 1 - sum mu_k V_k / sum V_k (seed 000 eq. 7), shape (n,).
+
+    Computed as (sum of broken V) / (sum V) without fast-math, so a family with no
+    broken bond has exactly zero damage.
+    """
     n = offsets.shape[0] - 1
     for i in prange(n):
         tot = 0.0
-        ok = 0.0
+        lost = 0.0
         for k in range(offsets[i], offsets[i + 1]):
             tot += bond_volume[k]
-            ok += bond_volume[k] * intact[k]
-        out[i] = 1.0 - ok / tot if tot > 0 else 0.0
+            if not intact[k]:
+                lost += bond_volume[k]
+        out[i] = lost / tot if tot > 0 else 0.0
 
 
 @njit(**_JIT)

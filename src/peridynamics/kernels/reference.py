@@ -62,6 +62,6 @@ def strain_energy_density(
 def damage(bond_i: NDArray, bond_volume: F, intact: NDArray, n_points: int) -> F:
     """phi_i = 1 - sum mu V / sum V, shape (n_points,)."""
     tot = np.bincount(bond_i, bond_volume, n_points)
-    ok = np.bincount(bond_i, bond_volume * intact, n_points)
+    lost = np.bincount(bond_i, bond_volume * (1 - np.asarray(intact, dtype=float)), n_points)
     with np.errstate(invalid="ignore", divide="ignore"):
-        return np.where(tot > 0, 1.0 - ok / tot, 0.0)
+        return np.where(tot > 0, lost / tot, 0.0)
