@@ -93,7 +93,7 @@ def run_case(
         f = reference.force_half_list(x, u, pi, pj, length, k_ij, k_ji)
         v += 0.5 * dt * f * inv_rho
     numpy_s = (time.perf_counter() - t0) / numpy_steps
-    mem = b.nbytes + model.stiffness.nbytes + state.intact.nbytes
+    mem = b.nbytes + model.stiffness.nbytes + model.inv_length.nbytes + state.intact.nbytes
     return BenchResult(
         dim=dim,
         points=model.n_points,

@@ -62,6 +62,7 @@ class Model:
             self.bonds = self.bonds.with_correction(factors)
         self.stiffness = self.material.bond_stiffness(c, self.bonds)
         self.inv_length = 1.0 / self.bonds.bond_length
+        self._broken_scratch = np.zeros(c.n_points, dtype=np.int64)
         self.point_s0 = self.damage.point_threshold(c.n_points)
         self.family_s0_min = family_minimum(self.bonds, self.point_s0)
         self.density = np.full(c.n_points, self.material.density)
@@ -100,11 +101,14 @@ class Model:
                 self.family_s0_min,
                 force,
                 max_stretch,
+                self._broken_scratch,
             )
         )
 
     def external_force(self, t: float, out: NDArray) -> None:
         """Fill ``out`` (n, dim) with the external body-force density at time t (N/m^3)."""
+        if not self.body_forces and not out.any():
+            return  # nothing to add and already zero (the common case)
         out.fill(0.0)
         for load in self.body_forces:
             load.add_to(out, t)

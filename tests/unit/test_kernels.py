@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import inspect
-
 import numba
 import numpy as np
 import pytest
@@ -38,11 +36,25 @@ def setup(dim: int, seed: int = 0):
 
 
 def run_force_kernel(dim, cloud, b, k, u, intact, s0, s0_min, force, smax):
-    """Call the Numba force kernel; it takes bond lengths or (newer) inverse lengths."""
+    """Call the Numba force kernel (it takes inverse bond lengths and a scratch array)."""
     kernel = bond_based.FORCE_KERNELS[dim]
-    params = list(inspect.signature(kernel.py_func).parameters)
-    lengths = 1.0 / b.bond_length if params[4] == "inv_length" else b.bond_length
-    return kernel(cloud.x, u, b.offsets, b.bond_j, lengths, k, intact, s0, s0_min, force, smax)
+    scratch = np.full(cloud.n_points, -7, dtype=np.int64)  # garbage in: must be overwritten
+    nb = kernel(
+        cloud.x,
+        u,
+        b.offsets,
+        b.bond_j,
+        1.0 / b.bond_length,
+        k,
+        intact,
+        s0,
+        s0_min,
+        force,
+        smax,
+        scratch,
+    )
+    assert nb == scratch.sum()
+    return nb
 
 
 def max_rel_err(a, b):

@@ -111,7 +111,9 @@ def _break_family(i, x, u, offsets, bond_j, inv_length, intact, s0):
 
 
 @njit(**_JIT)
-def force_1d(x, u, offsets, bond_j, inv_length, stiffness, intact, s0, s0_min, force, smax_out):
+def force_1d(
+    x, u, offsets, bond_j, inv_length, stiffness, intact, s0, s0_min, force, smax_out, nbroken
+):
     """1-D bond force density (N/m^3) with bond breaking; see the module docstring.
 
     Parameters
@@ -122,16 +124,17 @@ def force_1d(x, u, offsets, bond_j, inv_length, stiffness, intact, s0, s0_min, f
     s0 : (n,) point critical stretch (``inf`` = never fails).
     s0_min : (n,) smallest bond critical stretch in each family (a cheap filter).
     force : (n, 1) output force density; smax_out : (n,) output largest tensile stretch
-        of an intact bond (0 when none is stretched).
+        of an intact bond (0 when none is stretched); nbroken : (n,) int64 scratch output,
+        bonds broken per point by this call.
 
     Returns
     -------
     int : number of directed bonds broken by this call.
     """
     n = x.shape[0]
-    nbroken = np.zeros(n, dtype=np.int64)
     for i in prange(n):
         f0, smax = _family_1d(i, x, u, offsets, bond_j, inv_length, stiffness, intact)
+        nbroken[i] = 0
         if smax >= s0_min[i]:
             nb = _break_family(i, x, u, offsets, bond_j, inv_length, intact, s0)
             if nb > 0:
@@ -143,12 +146,14 @@ def force_1d(x, u, offsets, bond_j, inv_length, stiffness, intact, s0, s0_min, f
 
 
 @njit(**_JIT)
-def force_2d(x, u, offsets, bond_j, inv_length, stiffness, intact, s0, s0_min, force, smax_out):
+def force_2d(
+    x, u, offsets, bond_j, inv_length, stiffness, intact, s0, s0_min, force, smax_out, nbroken
+):
     """2-D bond force density (N/m^3) with bond breaking; arguments as :func:`force_1d`."""
     n = x.shape[0]
-    nbroken = np.zeros(n, dtype=np.int64)
     for i in prange(n):
         f0, f1, smax = _family_2d(i, x, u, offsets, bond_j, inv_length, stiffness, intact)
+        nbroken[i] = 0
         if smax >= s0_min[i]:
             nb = _break_family(i, x, u, offsets, bond_j, inv_length, intact, s0)
             if nb > 0:
@@ -161,12 +166,14 @@ def force_2d(x, u, offsets, bond_j, inv_length, stiffness, intact, s0, s0_min, f
 
 
 @njit(**_JIT)
-def force_3d(x, u, offsets, bond_j, inv_length, stiffness, intact, s0, s0_min, force, smax_out):
+def force_3d(
+    x, u, offsets, bond_j, inv_length, stiffness, intact, s0, s0_min, force, smax_out, nbroken
+):
     """3-D bond force density (N/m^3) with bond breaking; arguments as :func:`force_1d`."""
     n = x.shape[0]
-    nbroken = np.zeros(n, dtype=np.int64)
     for i in prange(n):
         f0, f1, f2, smax = _family_3d(i, x, u, offsets, bond_j, inv_length, stiffness, intact)
+        nbroken[i] = 0
         if smax >= s0_min[i]:
             nb = _break_family(i, x, u, offsets, bond_j, inv_length, intact, s0)
             if nb > 0:
@@ -215,18 +222,24 @@ def strain_energy_density(x, u, offsets, bond_j, length, stiffness, intact, out)
         out[i] = 0.25 * w
 
 
-@njit(**_JIT)
+@njit(parallel=True, fastmath=False, cache=True)
 def first_bad_point(u, v, limit):
     """Index of the first point with non-finite u or v or |u_c| > limit, else -1."""
     n, d = u.shape
-    bad = np.full(n, n, dtype=np.int64)
+    nbad = 0
     for i in prange(n):
         for c in range(d):
             a = u[i, c]
             if not (np.isfinite(a) and np.isfinite(v[i, c]) and abs(a) <= limit):
-                bad[i] = i
-    k = bad.min()
-    return k if k < n else -1
+                nbad += 1
+    if nbad == 0:
+        return -1
+    for i in range(n):  # rare: find the first offender serially
+        for c in range(d):
+            a = u[i, c]
+            if not (np.isfinite(a) and np.isfinite(v[i, c]) and abs(a) <= limit):
+                return i
+    return -1
 
 
 @njit(parallel=True, fastmath=False, cache=True)

@@ -109,6 +109,7 @@ class ExplicitSolver:
                 )
             self.dt = float(self.time_step)
         self._inv_rho = 1.0 / self.model.density
+        self._blowup_limit = self.blowup_factor * self.model.cloud.size
         self._last_good: State | None = None
 
     # -- life cycle --------------------------------------------------------------
@@ -190,7 +191,7 @@ class ExplicitSolver:
         A passing check keeps a copy of u and v (the "last good" frame; the other
         arrays of that copy are shared with the live state).
         """
-        limit = self.blowup_factor * self.model.cloud.size
+        limit = self._blowup_limit
         k = int(bond_based.first_bad_point(s.u, s.v, limit))
         if k >= 0:
             coords = self.model.cloud.x[k].tolist()
