@@ -32,7 +32,7 @@ from peridynamics.io.summary import write_summary
 from peridynamics.io.vtk import write_pvd, write_vtu
 from peridynamics.loading import conditions as bc
 from peridynamics.loading import time_functions as tf
-from peridynamics.materials import BondBasedMaterial
+from peridynamics.materials import MATERIALS
 from peridynamics.model import Model
 from peridynamics.solvers.explicit import ExplicitSolver, SimulationUnstable
 from peridynamics.solvers.state import State
@@ -191,7 +191,7 @@ def build_bonds_for(deck: dk.Deck, cloud: PointCloud) -> Bonds:
 def build_model(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, body: list) -> Model:
     """Material + damage + loads -> Model."""
     m = deck.material
-    material = BondBasedMaterial(m.youngs_modulus, m.density, m.micromodulus_profile)
+    material = MATERIALS[m.model](m.youngs_modulus, m.density, m.micromodulus_profile)
     dmg = deck.damage
     if dmg.model == "none":
         damage = NO_DAMAGE

@@ -47,6 +47,7 @@ def test_long_wave_speed_in_a_bar():
     assert peaks[-1] - peaks[0] > 0.1 and peaks[-1] < 0.9
     speed_c = np.polyfit(times, cents, 1)[0]
     speed_p = np.polyfit(times, peaks, 1)[0]
+    print(f"bar wave speed: {speed_c:.2f} (centroid), {speed_p:.2f} (peak) vs {c0:.2f} m/s")
     assert speed_c == pytest.approx(c0, rel=1e-2)
     assert speed_p == pytest.approx(c0, rel=1e-2)
     # half the amplitude goes each way
