@@ -124,7 +124,9 @@ class Model:
 
     def strain_energy(self, u: NDArray, intact: NDArray[np.uint8]) -> float:
         """Total strain energy sum W_i V_i (J)."""
-        return float(self.strain_energy_density(u, intact) @ self.cloud.volume)
+        # np.sum, not @: a BLAS dot can wake OpenBLAS threads that then spin against
+        # Numba's workers and slow the next force evaluations
+        return float(np.sum(self.strain_energy_density(u, intact) * self.cloud.volume))
 
     def kinetic_energy(self, v: NDArray) -> float:
         """Total kinetic energy 1/2 sum rho_i V_i |v_i|^2 (J)."""
