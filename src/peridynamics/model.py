@@ -21,6 +21,10 @@ from peridynamics.kernels import bond_based
 from peridynamics.loading.conditions import BodyForce
 from peridynamics.materials.bond_based import BondBasedMaterial
 
+#: uniaxial strain of the surface-correction calibration: small, so that the geometric
+#: nonlinearity of the stretch (relative O(strain)) does not bias the factors
+_CALIBRATION_STRAIN = 1e-6
+
 
 @dataclass
 class Model:
@@ -56,9 +60,9 @@ class Model:
         if self.surface_correction:
             raw = self.material.bond_stiffness(c, self.bonds, corrected=False)
             w_inf = self.material.uniaxial_energy_density(
-                1e-3, c.dim, self.bonds.horizon, c.cross_section, c.plane
+                _CALIBRATION_STRAIN, c.dim, self.bonds.horizon, c.cross_section, c.plane
             )
-            factors = energy_correction_factors(c.x, self.bonds, raw, w_inf, strain=1e-3)
+            factors = energy_correction_factors(c.x, self.bonds, raw, w_inf, _CALIBRATION_STRAIN)
             self.bonds = self.bonds.with_correction(factors)
         self.stiffness = self.material.bond_stiffness(c, self.bonds)
         self.inv_length = 1.0 / self.bonds.bond_length
