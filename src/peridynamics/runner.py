@@ -135,19 +135,25 @@ def time_function(spec: Any) -> tf.TimeFunction:
 
 def build_conditions(deck: dk.Deck, cloud: PointCloud) -> tuple[list, list, list]:
     """(body forces, kinematic constraints, initial velocities)."""
-    body, kin, init = [], [], []
+    body: list[bc.BodyForce] = []
+    kin: list[bc.PrescribedDisplacement | bc.PrescribedVelocity | bc.Fixed] = []
+    init: list[bc.InitialVelocity] = []
     for spec in deck.boundary_conditions:
         nodes = cloud.node_set(spec.set)
         if isinstance(spec, dk.DisplacementBC):
             kin.append(
                 bc.PrescribedDisplacement(
-                    nodes, dict(spec.components), time_function(spec.time_function)
+                    nodes,
+                    {str(k): v for k, v in spec.components.items()},
+                    time_function(spec.time_function),
                 )
             )
         elif isinstance(spec, dk.VelocityBC):
             kin.append(
                 bc.PrescribedVelocity(
-                    nodes, dict(spec.components), time_function(spec.time_function)
+                    nodes,
+                    {str(k): v for k, v in spec.components.items()},
+                    time_function(spec.time_function),
                 )
             )
         elif isinstance(spec, dk.FixedBC):
@@ -157,6 +163,7 @@ def build_conditions(deck: dk.Deck, cloud: PointCloud) -> tuple[list, list, list
         elif isinstance(spec, dk.BodyForceBC):
             body.append(bc.BodyForce(nodes, tuple(spec.value), time_function(spec.time_function)))
         else:  # traction or pressure
+            normal: NDArray[np.float64] | None
             if isinstance(spec, dk.PressureBC):
                 n = np.asarray(spec.normal, dtype=float)
                 traction = -spec.value * n / np.linalg.norm(n)
@@ -288,7 +295,11 @@ class Recorder:
 
 
 def _reduce(vals: NDArray, how: str) -> float:
-    return float({"mean": np.mean, "sum": np.sum, "max": np.max, "min": np.min}[how](vals))
+    if how == "mean":
+        return float(np.mean(vals))
+    if how == "sum":
+        return float(np.sum(vals))
+    return float(np.max(vals) if how == "max" else np.min(vals))
 
 
 # ---------------------------------------------------------------------- simulation
@@ -580,7 +591,7 @@ class _RichBar:
         self.p.__enter__()
         return self
 
-    def __exit__(self, *a: object) -> None:
+    def __exit__(self, *a: Any) -> None:
         self.p.__exit__(*a)
 
     def update(self, step: int) -> None:

@@ -150,7 +150,8 @@ def build_bonds(
     beta = partial_volume_factor(length, horizon, dx, partial_volume)
     keep = beta > 0
     if not np.all(keep):  # drop zero-weight bonds (rare: only at the search rim)
-        bond_i, bond_j, xi, length, beta = (a[keep] for a in (bond_i, bond_j, xi, length, beta))
+        bond_i, bond_j = bond_i[keep], bond_j[keep]
+        xi, length, beta = xi[keep], length[keep], beta[keep]
         offsets = np.zeros(cloud.n_points + 1, dtype=np.int64)
         np.cumsum(np.bincount(bond_i, minlength=cloud.n_points), out=offsets[1:])
     lonely = np.flatnonzero(np.diff(offsets) == 0)

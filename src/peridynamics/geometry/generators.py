@@ -31,7 +31,7 @@ def _count(length: float, dx: float, what: str) -> int:
 
 def _centres(lo: float, length: float, dx: float, what: str) -> NDArray[np.float64]:
     n = _count(length, dx, what)
-    return lo + (np.arange(n) + 0.5) * dx
+    return np.asarray(lo + (np.arange(n) + 0.5) * dx, dtype=np.float64)
 
 
 def bar(
@@ -49,7 +49,7 @@ def bar(
     """
     if nodes_on_boundary:
         n = _count(length, dx, "length")
-        x = origin + np.arange(n + 1) * dx
+        x = np.asarray(origin + np.arange(n + 1) * dx, dtype=np.float64)
     else:
         x = _centres(origin, length, dx, "length")
     return PointCloud(

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 
 import meshio
@@ -29,7 +30,7 @@ def _tet_volume(p: NDArray[np.float64]) -> NDArray[np.float64]:
 
 #: simplex decompositions of the cells: triangles of a quad, tetrahedra of a hexahedron
 #: (VTK ordering, split around the 0-6 diagonal)
-_SPLITS = {
+_SPLITS: dict[str, list[tuple[int, ...]]] = {
     "triangle": [(0, 1, 2)],
     "quad": [(0, 1, 2), (0, 2, 3)],
     "tetra": [(0, 1, 2, 3)],
@@ -49,7 +50,9 @@ def _cell_centroids_and_measures(
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Centroids (n, dim) and areas/volumes (n,) of cells with vertices pts (n, k, dim),
     exact for straight-edged cells: the measure-weighted mean of simplex centroids."""
-    measure = _triangle_area if kind in ("triangle", "quad") else _tet_volume
+    measure: Callable[[NDArray[np.float64]], NDArray[np.float64]] = (
+        _triangle_area if kind in ("triangle", "quad") else _tet_volume
+    )
     total = np.zeros(len(pts))
     moment = np.zeros((len(pts), pts.shape[2]))
     for simplex in _SPLITS[kind]:

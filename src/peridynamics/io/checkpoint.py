@@ -20,7 +20,7 @@ def write_checkpoint(
     """Write ``out_dir/checkpoint.npz`` atomically (write a temporary file, then rename)."""
     path = out_dir / CHECKPOINT_NAME
     tmp = out_dir / (CHECKPOINT_NAME + ".tmp")
-    arrays = {f"state_{k}": v for k, v in state.to_arrays().items()}
+    arrays: dict[str, Any] = {f"state_{k}": v for k, v in state.to_arrays().items()}
     arrays["records_json"] = np.frombuffer(json.dumps(records).encode(), dtype=np.uint8)
     arrays["fingerprint"] = np.frombuffer(fingerprint.encode(), dtype=np.uint8)
     with open(tmp, "wb") as fh:

@@ -618,9 +618,10 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
             vec = getattr(bc, key, None)
             if isinstance(vec, list):
                 _check_len(errors, f"{path}.{key}", vec, dim)
-        if getattr(bc, "normal", None) is not None:
-            _check_nonzero(errors, f"{path}.normal", bc.normal)
-        if getattr(bc, "type", "") == "traction" and bc.normal is None and not any(bc.value):
+        normal = getattr(bc, "normal", None)
+        if normal is not None:
+            _check_nonzero(errors, f"{path}.normal", normal)
+        if isinstance(bc, TractionBC) and bc.normal is None and not any(bc.value):
             errors.append((f"{path}.normal", "give a normal when the traction value is zero"))
     for n, crack in enumerate(deck.precracks):
         want = 2 if dim == 2 else 3

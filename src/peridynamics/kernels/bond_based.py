@@ -26,10 +26,11 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-_JIT = dict(parallel=True, fastmath=True, error_model="numpy", cache=True)
+#: hot loops: fast-math lets LLVM vectorise the family sums
+_hot = njit(parallel=True, fastmath=True, error_model="numpy", cache=True)
 #: diagnostics (energy, stretch, damage, stable step) are not hot: no fast-math, so they
 #: give the same bits whether compiled in this process or loaded from the cache
-_JIT_EXACT = dict(parallel=True, fastmath=False, cache=True)
+_exact = njit(parallel=True, fastmath=False, cache=True)
 
 
 @njit(inline="always")
@@ -113,7 +114,7 @@ def _break_family(i, x, u, offsets, bond_j, inv_length, intact, s0):
     return broken
 
 
-@njit(**_JIT)
+@_hot
 def force_1d(
     x, u, offsets, bond_j, inv_length, stiffness, intact, s0, s0_min, force, smax_out, nbroken
 ):
@@ -148,7 +149,7 @@ def force_1d(
     return nbroken.sum()
 
 
-@njit(**_JIT)
+@_hot
 def force_2d(
     x, u, offsets, bond_j, inv_length, stiffness, intact, s0, s0_min, force, smax_out, nbroken
 ):
@@ -168,7 +169,7 @@ def force_2d(
     return nbroken.sum()
 
 
-@njit(**_JIT)
+@_hot
 def force_3d(
     x, u, offsets, bond_j, inv_length, stiffness, intact, s0, s0_min, force, smax_out, nbroken
 ):
@@ -194,7 +195,7 @@ def force_3d(
 FORCE_KERNELS = {1: force_1d, 2: force_2d, 3: force_3d}
 
 
-@njit(**_JIT_EXACT)
+@_exact
 def bond_stretch(x, u, offsets, bond_j, length, out):
     """Stretch of every directed bond, shape (n_bonds,)."""
     n, d = x.shape
@@ -208,7 +209,7 @@ def bond_stretch(x, u, offsets, bond_j, length, out):
             out[k] = (np.sqrt(r2) - length[k]) / length[k]
 
 
-@njit(**_JIT_EXACT)
+@_exact
 def strain_energy_density(x, u, offsets, bond_j, length, stiffness, intact, out):
     """Point strain-energy density W_i = 1/4 sum_k stiffness_k mu_k s_k^2 |xi_k| (J/m^3)."""
     n, d = x.shape
@@ -225,7 +226,7 @@ def strain_energy_density(x, u, offsets, bond_j, length, stiffness, intact, out)
         out[i] = 0.25 * w
 
 
-@njit(**_JIT_EXACT)
+@_exact
 def first_bad_point(u, v, limit):
     """Index of the first point with non-finite u or v or |u_c| > limit, else -1."""
     n, d = u.shape
@@ -245,7 +246,7 @@ def first_bad_point(u, v, limit):
     return -1
 
 
-@njit(**_JIT_EXACT)
+@_exact
 def damage(offsets, bond_volume, intact, out):
     """Local damage phi_i = 1 - sum mu_k V_k / sum V_k (seed 000 eq. 7), shape (n,).
 
@@ -263,7 +264,7 @@ def damage(offsets, bond_volume, intact, out):
         out[i] = lost / tot if tot > 0 else 0.0
 
 
-@njit(**_JIT_EXACT)
+@_exact
 def stable_time_step_per_point(offsets, length, stiffness, density, out):
     """Silling & Askari (2005) bound dt_i = sqrt(2 rho_i / sum_k stiffness_k / |xi_k|) (s)."""
     n = offsets.shape[0] - 1

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 from numba import njit, prange
 
-_JIT = dict(parallel=True, fastmath=False, cache=True)
+_kernel = njit(parallel=True, fastmath=False, cache=True)
 
 
-@njit(**_JIT)
+@_kernel
 def kick_drift(u, v, force, body, inv_rho, dt):
     """Velocity Verlet first half: v += dt/2 * a; u += dt * v, with a = (f + b) / rho."""
     n, d = u.shape
@@ -18,7 +18,7 @@ def kick_drift(u, v, force, body, inv_rho, dt):
             u[i, c] += dt * v[i, c]
 
 
-@njit(**_JIT)
+@_kernel
 def kick(v, force, body, inv_rho, dt):
     """Velocity Verlet second half: v += dt/2 * a."""
     n, d = v.shape
@@ -28,7 +28,7 @@ def kick(v, force, body, inv_rho, dt):
             v[i, c] += h * (force[i, c] + body[i, c]) * inv_rho[i]
 
 
-@njit(**_JIT)
+@_kernel
 def central_difference(u, u_prev, v, force, body, inv_rho, dt):
     """Central difference (seed 000 eq. 10): u+ = 2u - u- + dt^2 a.
 

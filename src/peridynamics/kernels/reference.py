@@ -56,7 +56,8 @@ def strain_energy_density(
 ) -> F:
     """W_i = 1/4 sum stiffness mu s^2 |xi| (J/m^3), shape (n_points,)."""
     s = stretch(x, u, bond_i, bond_j, length)
-    return 0.25 * np.bincount(bond_i, stiffness * intact * s * s * length, minlength=len(x))
+    w = np.bincount(bond_i, stiffness * intact * s * s * length, minlength=len(x))
+    return np.asarray(0.25 * w, dtype=np.float64)
 
 
 def damage(bond_i: NDArray, bond_volume: F, intact: NDArray, n_points: int) -> F:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -59,7 +60,7 @@ class State:
     @classmethod
     def from_arrays(cls, data: dict[str, np.ndarray]) -> State:
         """Inverse of :meth:`to_arrays`."""
-        kw = {}
+        kw: dict[str, Any] = {}
         for f in fields(cls):
             a = data[f.name]
             if f.name == "t":
