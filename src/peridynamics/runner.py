@@ -550,7 +550,19 @@ class Simulation:
                     f"{self.deck.name}: damage at t = {s.t * 1e6:.2f} us",
                 )
         else:
-            series = dict(r["probes"]) or {"kinetic energy (J)": r["kinetic_energy_J"]}
+            units = {
+                "displacement": "m",
+                "velocity": "m/s",
+                "force_density": "N/m^3",
+                "reaction_force": "N",
+                "max_stretch": "-",
+                "damage": "-",
+            }
+            series = {
+                f"{p.name} ({units[p.quantity]})": r["probes"][p.name]
+                for p in self.deck.output.probes
+            }
+            series = series or {"kinetic energy (J)": r["kinetic_energy_J"]}
             plot_histories(path, r["time_s"], series, f"{self.deck.name}: probes")
         return [path.name]
 
