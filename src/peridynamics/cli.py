@@ -52,20 +52,31 @@ def _load(args: argparse.Namespace):  # noqa: ANN202 - returns a Deck
 
 
 def cmd_check(args: argparse.Namespace) -> int:
-    """Validate a deck and build its geometry and node sets, without running."""
-    from peridynamics.runner import SetupError, build_bonds_for, build_cloud
+    """Validate a deck and build its geometry and node sets, without running.
+
+    With ``--bonds`` also build the bonds, the model and the solver: the time step is
+    then checked against the stable limit as ``run`` would.
+    """
+    from peridynamics.runner import SetupError, Simulation, build_cloud
 
     deck = _load(args)
     if deck is None:
         return EXIT_INVALID
     try:
-        cloud = build_cloud(deck)
-        bonds = build_bonds_for(deck, cloud) if args.bonds else None
+        if args.bonds:
+            sim = Simulation.from_deck(deck)
+            extra = (
+                f", {sim.model.bonds.n_bonds} bonds, dt = {sim.solver.dt:.4g} s "
+                f"(stable limit {sim.solver.stable_time_step:.4g} s), "
+                f"{sim.n_steps} steps"
+            )
+            n_points = sim.cloud.n_points
+        else:
+            n_points, extra = build_cloud(deck).n_points, ""
     except SetupError as exc:
         _err(f"invalid deck:\n  {exc}")
         return EXIT_INVALID
-    extra = f", {bonds.n_bonds} bonds" if bonds is not None else ""
-    print(f"{args.deck}: valid ({deck.dim}-D, {cloud.n_points} points{extra})")
+    print(f"{args.deck}: valid ({deck.dim}-D, {n_points} points{extra})")
     return EXIT_OK
 
 
@@ -74,10 +85,22 @@ def cmd_run(args: argparse.Namespace) -> int:
     from peridynamics.runner import SetupError, Simulation
     from peridynamics.solvers import SimulationUnstable
 
+    if args.resume and args.out:
+        _err("give either --out DIR (a new run) or --resume DIR (continue the run in DIR)")
+        return EXIT_INVALID
+    if args.checkpoint_every < 0:
+        _err("--checkpoint-every must be >= 0 (0: no checkpoints)")
+        return EXIT_INVALID
+    if args.resume and not Path(args.resume).is_dir():
+        _err(f"--resume: no run folder {args.resume!r}")
+        return EXIT_INVALID
     deck = _load(args)
     if deck is None:
         return EXIT_INVALID
     out = Path(args.resume or args.out or Path("results") / deck.name)
+    if out.exists() and not out.is_dir():
+        _err(f"--out: {str(out)!r} exists and is not a folder")
+        return EXIT_INVALID
     try:
         sim = Simulation.from_deck(deck)
         if not args.quiet:
@@ -91,8 +114,8 @@ def cmd_run(args: argparse.Namespace) -> int:
     except SetupError as exc:
         _err(f"invalid deck:\n  {exc}")
         return EXIT_INVALID
-    except FileNotFoundError as exc:
-        _err(str(exc))
+    except OSError as exc:  # no checkpoint, unwritable output folder, ...
+        _err(f"error: {exc}")
         return EXIT_INVALID
     except SimulationUnstable as exc:
         _err(f"error: {exc}\nwrote {out / 'last_good.vtu'} and {out / 'summary.json'}")
@@ -120,11 +143,13 @@ def cmd_examples(args: argparse.Namespace) -> int:
     src = ex[args.name]
     dest = Path(args.dest or ".")
     dest.mkdir(parents=True, exist_ok=True)
+    target = dest / (src.parent.name if src.stem == "deck" else src.name)
+    if target.exists() and not args.force:
+        _err(f"{str(target)!r} exists; not overwriting your copy (use --force to replace it)")
+        return EXIT_INVALID
     if src.stem == "deck":  # a folder example: copy the whole folder
-        target = dest / src.parent.name
         shutil.copytree(src.parent, target, dirs_exist_ok=True)
     else:
-        target = dest / src.name
         shutil.copy2(src, target)
     print(f"copied {args.name} to {target}")
     return EXIT_OK
@@ -134,7 +159,16 @@ def cmd_bench(args: argparse.Namespace) -> int:
     """Run the kernel benchmark."""
     from peridynamics.bench import run_benchmarks
 
-    dims = tuple(int(d) for d in args.dims.split(","))
+    try:
+        dims = tuple(int(d) for d in args.dims.split(","))
+    except ValueError:
+        dims = ()
+    if not dims or any(d not in (1, 2, 3) for d in dims):
+        _err(f"--dims: comma-separated dimensions from 1, 2, 3, got {args.dims!r}")
+        return EXIT_INVALID
+    if args.steps < 1:
+        _err("--steps must be >= 1")
+        return EXIT_INVALID
     results = run_benchmarks(args.size, dims=dims, steps=args.steps)
     if args.json:
         print(json.dumps([r.as_dict() for r in results], indent=2))
@@ -185,13 +219,18 @@ def build_parser() -> argparse.ArgumentParser:
 
     c = sub.add_parser("check", help="validate a deck without running (exit 0 valid, 2 not)")
     deck_args(c)
-    c.add_argument("--bonds", action="store_true", help="also build the bond list")
+    c.add_argument(
+        "--bonds",
+        action="store_true",
+        help="also build bonds, model and solver (checks the time step)",
+    )
     c.set_defaults(func=cmd_check)
 
     e = sub.add_parser("examples", help="list the examples, or copy one: examples copy NAME DIR")
     e.add_argument("action", nargs="?", choices=["list", "copy"], default="list")
     e.add_argument("name", nargs="?")
     e.add_argument("dest", nargs="?")
+    e.add_argument("--force", action="store_true", help="replace an existing copy")
     e.set_defaults(func=cmd_examples)
 
     b = sub.add_parser("bench", help="benchmark the explicit PMB step (Numba vs NumPy)")

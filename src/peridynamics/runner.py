@@ -133,13 +133,35 @@ def time_function(spec: Any) -> tf.TimeFunction:
     return tf.TriangularPulse(spec.peak, spec.rise_time, spec.duration)
 
 
+def _kinematic_components(spec: Any, dim: int) -> list[int]:
+    """Components a displacement / velocity / fixed condition prescribes ([] otherwise)."""
+    if isinstance(spec, dk.DisplacementBC | dk.VelocityBC):
+        return [COMP[c] for c in spec.components]
+    if isinstance(spec, dk.FixedBC):
+        return [COMP[c] for c in spec.components] if spec.components else list(range(dim))
+    return []
+
+
 def build_conditions(deck: dk.Deck, cloud: PointCloud) -> tuple[list, list, list]:
     """(body forces, kinematic constraints, initial velocities)."""
     body: list[bc.BodyForce] = []
     kin: list[bc.PrescribedDisplacement | bc.PrescribedVelocity | bc.Fixed] = []
     init: list[bc.InitialVelocity] = []
-    for spec in deck.boundary_conditions:
+    owner = np.full((cloud.n_points, cloud.dim), -1)  # which kinematic BC holds a dof
+    for ibc, spec in enumerate(deck.boundary_conditions):
         nodes = cloud.node_set(spec.set)
+        comps = np.asarray(_kinematic_components(spec, cloud.dim), dtype=np.intp)
+        if comps.size:
+            taken = owner[np.ix_(nodes, comps)]
+            if np.any(taken >= 0):
+                other = int(taken[taken >= 0][0])
+                raise SetupError(
+                    f"boundary_conditions.{ibc}",
+                    f"prescribes the same node and component as boundary_conditions.{other} "
+                    f"(sets {spec.set!r} and {deck.boundary_conditions[other].set!r} "
+                    "overlap); a degree of freedom can have one kinematic condition only",
+                )
+            owner[np.ix_(nodes, comps)] = ibc
         if isinstance(spec, dk.DisplacementBC):
             kin.append(
                 bc.PrescribedDisplacement(
@@ -245,6 +267,7 @@ class Recorder:
                 "crack_tip_m": [],
                 "vtk_frames": [],
             }
+        self._pre_damaged: NDArray[np.bool_] | None = None
         ct = self.deck.output.crack_tip
         self._tip = (
             None
@@ -291,7 +314,11 @@ class Recorder:
             r["probes"][p.name].append(self.probe_value(p, s, damage))
         if self._tip is not None:
             origin, direction, thr = self._tip
-            r["crack_tip_m"].append(crack_tip(m.cloud.x, damage, origin, direction, thr))
+            if self._pre_damaged is None:  # points a pre-crack damages at t = 0
+                self._pre_damaged = m.point_damage(m.bonds.bond_intact) >= thr
+            r["crack_tip_m"].append(
+                crack_tip(m.cloud.x, damage, origin, direction, thr, self._pre_damaged)
+            )
 
 
 def _reduce(vals: NDArray, how: str) -> float:
@@ -332,6 +359,7 @@ class Simulation:
                 safety_factor=s.safety_factor,
                 allow_unstable=s.allow_unstable,
                 blowup_factor=s.blowup_factor,
+                max_stretch=s.max_stretch,
                 check_every=s.check_every,
             )
         except ValueError as exc:
@@ -393,6 +421,12 @@ class Simulation:
                     f"the checkpoint in {str(out)!r} was written by "
                     "a different deck; resume with the same deck and overrides",
                 )
+            if state.step >= self.n_steps and (out / "summary.json").exists():
+                raise SetupError(
+                    "--resume",
+                    f"the run in {str(out)!r} has already finished "
+                    f"({state.step} steps); nothing to resume",
+                )
             self.solver._last_good = state.copy()
             recorder = Recorder(self.deck, self.model, records)
         else:
@@ -420,6 +454,8 @@ class Simulation:
                         os._exit(137)
                     if state.step % 50 == 0 or state.step == n_total:
                         bar.update(state.step)
+                if state.step % self.solver.check_every:
+                    self.solver.check(state)  # the last steps are checked too
         except SimulationUnstable as exc:
             status, error = "unstable", str(exc)
             good = exc.last_good or state
@@ -493,16 +529,18 @@ class Simulation:
             results["crack_tip_speed_m_per_s"] = speed.tolist()
             results["max_crack_tip_speed_m_per_s"] = float(speed.max()) if len(speed) else 0.0
             if self.cloud.dim == 2:
-                n_br, x_br = branching(
-                    self.cloud.x,
-                    damage,
-                    self.cloud.spacing,
-                    ct.damage_threshold,
-                    x_from=float(ct.origin[0]),
+                origin = np.asarray(ct.origin, dtype=float)
+                direction = np.asarray(ct.direction or [1.0, 0.0], dtype=float)
+                direction = direction / np.linalg.norm(direction)
+                n_br, dist = branching(
+                    self.cloud.x, damage, self.cloud.spacing, ct.damage_threshold, origin, direction
                 )
+                point = None if dist is None else (origin + dist * direction).tolist()
                 results["crack_branches"] = n_br
                 results["crack_branched"] = n_br >= 2
-                results["branching_x_m"] = x_br
+                results["branching_distance_m"] = dist
+                results["branching_point_m"] = point
+                results["branching_x_m"] = None if point is None else point[0]
         files = self._figure(out, s, damage, r)
         n_b = m.bonds.n_bonds
         timing = {

@@ -7,14 +7,22 @@ from numpy.typing import NDArray
 
 
 def crack_tip(
-    x: NDArray, damage: NDArray, origin: NDArray, direction: NDArray | None, threshold: float
+    x: NDArray,
+    damage: NDArray,
+    origin: NDArray,
+    direction: NDArray | None,
+    threshold: float,
+    ignore: NDArray | None = None,
 ) -> float:
     """Distance (m) from ``origin`` of the damaged point farthest along ``direction``.
 
-    With ``direction=None`` the Euclidean distance is used. Returns 0 if no point has
-    ``damage >= threshold``.
+    With ``direction=None`` the Euclidean distance is used. Points flagged in ``ignore``
+    (n,) bool -- e.g. those already damaged by a pre-crack at t = 0 -- do not count.
+    Returns 0 if no other point has ``damage >= threshold``.
     """
     hit = damage >= threshold
+    if ignore is not None:
+        hit &= ~ignore
     if not np.any(hit):
         return 0.0
     d = x[hit] - origin
@@ -39,30 +47,46 @@ def tip_speed(times: NDArray, positions: NDArray, window: int = 3) -> NDArray:
 
 
 def count_branches(
-    x: NDArray, damage: NDArray, column_x: float, spacing: float, threshold: float
+    a: NDArray, b: NDArray, damage: NDArray, column: float, spacing: float, threshold: float
 ) -> int:
-    """Number of separate damaged bands crossing the line x = column_x (2-D).
+    """Number of separate damaged bands crossing the line ``a = column`` (2-D).
 
+    ``a`` and ``b`` (n,) are point coordinates along and across the crack direction.
     Points within half a spacing of the line with ``damage >= threshold`` are sorted by
-    y; a gap of more than 2.5 spacings starts a new band.
+    ``b``; a gap of more than 2.5 spacings starts a new band.
     """
-    on = (np.abs(x[:, 0] - column_x) <= 0.5 * spacing + 1e-12) & (damage >= threshold)
+    on = (np.abs(a - column) <= 0.5 * spacing + 1e-12) & (damage >= threshold)
     if not np.any(on):
         return 0
-    y = np.sort(x[on, 1])
-    return int(1 + np.sum(np.diff(y) > 2.5 * spacing))
+    across = np.sort(b[on])
+    return int(1 + np.sum(np.diff(across) > 2.5 * spacing))
 
 
 def branching(
-    x: NDArray, damage: NDArray, spacing: float, threshold: float, x_from: float
+    x: NDArray,
+    damage: NDArray,
+    spacing: float,
+    threshold: float,
+    origin: NDArray,
+    direction: NDArray | None = None,
 ) -> tuple[int, float | None]:
-    """Largest number of damaged bands over the columns x >= ``x_from`` and the first
-    column (m) where two or more bands cross (None if the crack never splits)."""
-    cols = np.unique(np.round(x[x[:, 0] >= x_from, 0] / spacing * 2) / 2 * spacing)
+    """Largest number of damaged bands crossing lines normal to ``direction`` ahead of
+    ``origin`` (2-D), and the distance (m) from the origin of the first line crossed by
+    two or more bands (None if the crack never splits). ``direction`` defaults to +x.
+    """
+    d = np.array([1.0, 0.0]) if direction is None else np.asarray(direction, dtype=float)
+    d = d / np.linalg.norm(d)
+    rel = x[:, :2] - np.asarray(origin, dtype=float)[:2]
+    a = rel[:, 0] * d[0] + rel[:, 1] * d[1]  # no BLAS: see Model.strain_energy
+    b = -rel[:, 0] * d[1] + rel[:, 1] * d[0]
+    ahead = a >= -1e-12
+    if not np.any(ahead):
+        return 0, None
+    columns = np.arange(0.0, float(a[ahead].max()) + spacing, spacing)
     best, first = 0, None
-    for cx in cols:  # over grid columns (a few hundred), vectorised inside
-        k = count_branches(x, damage, float(cx), spacing, threshold)
+    for col in columns:  # over lines across the crack path (a few hundred)
+        k = count_branches(a, b, damage, float(col), spacing, threshold)
         best = max(best, k)
         if k >= 2 and first is None:
-            first = float(cx)
+            first = float(col)
     return best, first

@@ -84,9 +84,13 @@ def make_crack(points: Sequence[ArrayLike]) -> Crack:
     """
     pts = [np.asarray(p, dtype=float) for p in points]
     if len(pts) == 2 and all(p.shape == (2,) for p in pts):
+        if not np.linalg.norm(pts[1] - pts[0]) > 0:
+            raise ValueError("a 2-D crack needs two different end points (zero length)")
         return SegmentCrack(tuple(pts[0]), tuple(pts[1]))  # type: ignore[arg-type]
     if len(pts) == 3 and all(p.shape == (3,) for p in pts):
         ea, eb = pts[1] - pts[0], pts[2] - pts[0]
+        if not (np.linalg.norm(ea) > 0 and np.linalg.norm(eb) > 0):
+            raise ValueError("a 3-D crack needs two edges of non-zero length (zero area)")
         if abs(ea @ eb) > 1e-9 * np.linalg.norm(ea) * np.linalg.norm(eb):
             raise ValueError("rectangle crack edges p1 - p0 and p2 - p0 must be perpendicular")
         return RectangleCrack(tuple(pts[0]), tuple(ea), tuple(eb))  # type: ignore[arg-type]

@@ -87,7 +87,13 @@ def from_mesh(
     spacing : float, optional
         Nominal spacing; default the cube (3-D) or square (2-D) root of the mean cell size.
     """
-    mesh = path if isinstance(path, meshio.Mesh) else meshio.read(path)
+    if isinstance(path, meshio.Mesh):
+        mesh = path
+    else:
+        try:
+            mesh = meshio.read(path)
+        except (Exception, SystemExit) as exc:  # meshio may even raise SystemExit
+            raise ValueError(f"meshio cannot read {str(path)!r}: {exc}") from None
     kinds = {blk.type for blk in mesh.cells}
     if dim is None:
         dim = 3 if kinds & _VOLUME_CELLS else 2

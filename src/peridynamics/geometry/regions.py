@@ -214,17 +214,31 @@ class HalfSpace(Region):
 
 @dataclass(frozen=True, init=False)
 class NearestPoint(Region):
-    """The single point closest to ``location`` (ties: lowest index)."""
+    """The single point closest to ``location`` (ties: lowest index).
+
+    With ``max_distance`` (m), a location farther than that from every point is an error
+    (a probe placed outside the body or in a hole).
+    """
 
     location: tuple[float, ...]
+    max_distance: float
 
-    def __init__(self, location: ArrayLike) -> None:
+    def __init__(self, location: ArrayLike, max_distance: float = np.inf) -> None:
         object.__setattr__(self, "location", tuple(_vec(location).tolist()))
+        object.__setattr__(self, "max_distance", float(max_distance))
 
     def mask(self, x: NDArray[np.float64]) -> BoolArray:
         out = np.zeros(len(x), dtype=bool)
         if len(x):
-            out[int(np.argmin(np.sum((x - np.asarray(self.location)) ** 2, axis=1)))] = True
+            d2 = np.sum((x - np.asarray(self.location)) ** 2, axis=1)
+            k = int(np.argmin(d2))
+            if np.sqrt(d2[k]) > self.max_distance:
+                raise ValueError(
+                    f"point {list(self.location)} is {np.sqrt(d2[k]):.3g} m from the nearest "
+                    f"point of the body (more than {self.max_distance:.3g} m): is it outside "
+                    "the body or in a hole?"
+                )
+            out[k] = True
         return out
 
 

@@ -425,6 +425,7 @@ class Solver(Strict):
     steps: Annotated[int, Field(gt=0), _Num] | None = None
     allow_unstable: bool = False
     blowup_factor: PosFloat = 1.0
+    max_stretch: PosFloat = 1.0
     check_every: Annotated[int, Field(gt=0), _Num] = 10
 
     @model_validator(mode="after")
@@ -477,7 +478,7 @@ class Output(Strict):
 class Deck(Strict):
     """A whole simulation."""
 
-    name: str = Field(min_length=1)
+    name: str = Field(min_length=1, max_length=100, pattern=r"^[A-Za-z0-9_.-]+$")
     description: str = ""
     geometry: Geometry
     discretisation: Discretisation
@@ -488,6 +489,13 @@ class Deck(Strict):
     boundary_conditions: list[BoundaryCondition] = []
     solver: Solver
     output: Output = Output()
+
+    @field_validator("name")
+    @classmethod
+    def _file_stem(cls, v: str) -> str:
+        if v in (".", ".."):
+            raise ValueError("the name becomes a file name: use letters, digits, _ . -")
+        return v
 
     @field_validator("node_sets")
     @classmethod
@@ -820,12 +828,31 @@ def _resolve_mesh(deck: Deck, base_dir: Path) -> Deck:
     if g.dim is None:
         try:
             kinds = {blk.type for blk in meshio.read(path).cells}
-        except Exception as exc:  # meshio raises many types for unreadable files
+        except (Exception, SystemExit) as exc:  # meshio may even raise SystemExit
             raise DeckError(
                 [("geometry.file", f"meshio cannot read {str(path)!r}: {exc}")]
             ) from None
         update["dim"] = 3 if kinds & {"tetra", "hexahedron"} else 2
     return deck.model_copy(update={"geometry": g.model_copy(update=update)})
+
+
+class _UniqueKeyLoader(yaml.SafeLoader):
+    """SafeLoader that refuses a key given twice in one mapping (YAML keeps the last)."""
+
+    def construct_mapping(self, node: yaml.MappingNode, deep: bool = False) -> dict:
+        seen: dict[Any, Any] = {}
+        for key_node, _ in node.value:
+            key = self.construct_object(key_node, deep=deep)  # type: ignore[no-untyped-call]
+            if key in seen:
+                raise yaml.constructor.ConstructorError(
+                    None,
+                    None,
+                    f"key {key!r} appears twice in one section "
+                    f"(line {seen[key] + 1} and line {key_node.start_mark.line + 1})",
+                    key_node.start_mark,
+                )
+            seen[key] = key_node.start_mark.line
+        return super().construct_mapping(node, deep=deep)
 
 
 def load_deck(path: str | Path, overrides: list[str] | None = None) -> Deck:
@@ -836,7 +863,7 @@ def load_deck(path: str | Path, overrides: list[str] | None = None) -> Deck:
     except OSError as exc:
         raise DeckError([("", f"cannot read deck {str(path)!r}: {exc.strerror}")]) from None
     try:
-        data = yaml.safe_load(text)
+        data = yaml.load(text, Loader=_UniqueKeyLoader)  # noqa: S506 - a SafeLoader
     except yaml.YAMLError as exc:
         raise DeckError([("", f"not valid YAML: {exc}")]) from None
     if overrides:

@@ -15,7 +15,7 @@ from numpy.typing import NDArray  # noqa: E402
 def plot_damage(path: Path, x: NDArray, damage: NDArray, spacing: float, title: str) -> None:
     """Scatter of local damage over the reference configuration (2-D; 3-D: max over z)."""
     if x.shape[1] == 3:  # project: largest damage along z for each (x, y) column
-        keys = np.round(x[:, :2] / spacing).astype(np.int64)
+        keys = np.floor((x[:, :2] - x[:, :2].min(axis=0)) / spacing + 0.5).astype(np.int64)
         _, inv = np.unique(keys, axis=0, return_inverse=True)
         dmax = np.zeros(inv.max() + 1)
         np.maximum.at(dmax, inv, damage)

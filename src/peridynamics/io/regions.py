@@ -44,7 +44,7 @@ def to_region(
             raise ValueError("edge regions need the grid spacing")
         return rg.Layer(v.normal, v.layers * spacing)
     if k == "point":
-        return rg.NearestPoint(v)
+        return rg.NearestPoint(v, max_distance=spacing if spacing > 0 else np.inf)
     if k == "everywhere":
         return rg.Everywhere()
     if k == "set":

@@ -227,20 +227,20 @@ def strain_energy_density(x, u, offsets, bond_j, length, stiffness, intact, out)
 
 
 @_exact
-def first_bad_point(u, v, limit):
-    """Index of the first point with non-finite u or v or |u_c| > limit, else -1."""
+def first_bad_point(u, v, shift, limit):
+    """First point with non-finite u or v or |u_c - shift_c| > limit, else -1."""
     n, d = u.shape
     nbad = 0
     for i in prange(n):
         for c in range(d):
-            a = u[i, c]
+            a = u[i, c] - shift[c]
             if not (np.isfinite(a) and np.isfinite(v[i, c]) and abs(a) <= limit):
                 nbad += 1
     if nbad == 0:
         return -1
     for i in range(n):  # rare: find the first offender serially
         for c in range(d):
-            a = u[i, c]
+            a = u[i, c] - shift[c]
             if not (np.isfinite(a) and np.isfinite(v[i, c]) and abs(a) <= limit):
                 return i
     return -1

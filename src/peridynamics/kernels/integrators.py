@@ -44,3 +44,14 @@ def central_difference(u, u_prev, v, force, body, inv_rho, dt):
             u_prev[i, c] = un
             u[i, c] = new
             v[i, c] = (new - un) / dt
+
+
+@_kernel
+def end_of_step_velocity(u, u_prev, v, force, body, inv_rho, dt):
+    """Central difference: v(t) = (u - u_prev)/dt + dt/2 a(t), the velocity at the end of
+    the step (equal to velocity Verlet's), after the forces at t are known."""
+    n, d = u.shape
+    h = 0.5 * dt
+    for i in prange(n):
+        for c in range(d):
+            v[i, c] = (u[i, c] - u_prev[i, c]) / dt + h * (force[i, c] + body[i, c]) * inv_rho[i]

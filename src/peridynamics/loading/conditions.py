@@ -121,18 +121,23 @@ def traction_as_body_force(
 ) -> BodyForce:
     """A surface traction t (Pa) spread as a body force t / l over a boundary layer.
 
-    ``l`` is ``layer_thickness`` if given, else the extent of the node set along the
-    surface normal plus one spacing (one grid row -> dx, k rows -> k dx). The normal
-    defaults to the direction of the traction.
+    ``l`` is ``layer_thickness`` if given; else the extent of the node set along the
+    surface ``normal`` plus one spacing (one grid row -> dx, k rows -> k dx); without a
+    normal, the smallest extent of the set along a coordinate axis plus one spacing (the
+    thin direction of an axis-aligned layer, whatever the direction of the traction).
+    The total force is then traction x loaded area for grid layers.
     """
     traction = np.asarray(traction, dtype=float)
     if layer_thickness is None:
-        n = traction if normal is None else np.asarray(normal, dtype=float)
-        norm = float(np.linalg.norm(n))
-        if norm == 0:
-            raise ValueError("traction: give a normal when the traction vector is zero")
-        proj = x[nodes] @ (n / norm)
-        layer_thickness = float(np.ptp(proj)) + spacing
+        pts = x[nodes]
+        if normal is None:
+            layer_thickness = float(np.min(np.ptp(pts, axis=0))) + spacing
+        else:
+            n = np.asarray(normal, dtype=float)
+            norm = float(np.linalg.norm(n))
+            if norm == 0:
+                raise ValueError("traction: the normal must be a non-zero vector")
+            layer_thickness = float(np.ptp(pts @ (n / norm))) + spacing
     if not layer_thickness > 0:
         raise ValueError("traction layer_thickness must be > 0 m")
     return BodyForce(

@@ -9,8 +9,8 @@ seed 003 eq. 7, SPEC.md section 0.1) for a constant profile:
 * 3-D:                        c = 12 E / (pi delta^4)        (nu = 1/4 fixed)
 
 A conical profile ``c(r) = c0 (1 - r/delta)`` keeps the same macroscopic modulus with
-``c0 = (d + 2) * c_constant`` (d the dimension), because the energy moment
-``int_0^1 g(t) t^(d+1) dt`` is ``1/(d+2)`` for g = 1 and ``1/((d+2)(d+3))`` for the cone.
+``c0 = (d + 2) * c_constant`` (d the dimension), because the elastic-energy moment
+``int_0^1 g(t) t^d dt`` is ``1/(d+1)`` for g = 1 and ``1/((d+1)(d+2))`` for the cone.
 
 Critical stretch from the fracture energy G0 (Silling & Askari 2005; Ha & Bobaru 2010)
 follows from ``G0 = (s0^2 / 2) K_d int_0^delta c(r) r^(d+1) dr`` with K_1 = A,

@@ -74,7 +74,10 @@ class ExplicitSolver:
     allow_unstable : bool
         Accept a ``time_step`` above the stable limit.
     blowup_factor : float
-        A displacement larger than ``blowup_factor * model size`` stops the run.
+        A displacement (less the mean displacement) larger than
+        ``blowup_factor * model size`` stops the run.
+    max_stretch : float
+        An intact bond stretched more than this stops the run (integration blew up).
     check_every : int
         Steps between finiteness / blow-up checks.
     """
@@ -87,6 +90,7 @@ class ExplicitSolver:
     safety_factor: float = 0.8
     allow_unstable: bool = False
     blowup_factor: float = 1.0
+    max_stretch: float = 1.0
     check_every: int = 10
 
     def __post_init__(self) -> None:
@@ -151,7 +155,8 @@ class ExplicitSolver:
             integrators.kick(v, f, b, inv, 0.0)
         else:
             integrators.central_difference(u, np.zeros((1, d)), v, f, b, inv, 1.0)
-        bond_based.first_bad_point(u, v, 1.0)
+            integrators.end_of_step_velocity(u, np.zeros((1, d)), v, f, b, inv, 1.0)
+        bond_based.first_bad_point(u, v, np.zeros(d), 1.0)
 
     def _apply_constraints(self, s: State, t: float) -> None:
         for c in self.constraints:
@@ -161,24 +166,31 @@ class ExplicitSolver:
                 c.apply(s.u, s.v, t, self.dt)
 
     def step(self, s: State) -> State:
-        """Advance one step in place and return the state."""
+        """Advance one step in place and return the state.
+
+        Both integrators leave ``v`` at the new time t + dt: velocity Verlet by its second
+        half kick, central difference by v = (u+ - u)/dt + dt/2 a+ (the same value, so
+        kinetic energy and velocity probes agree between the two).
+        """
         m, dt = self.model, self.dt
         t_new = (s.step + 1) * dt
         if self.integrator == "velocity_verlet":
             integrators.kick_drift(s.u, s.v, s.force, s.body, self._inv_rho, dt)
-        else:
+        else:  # v holds the mid-step velocity (u+ - u)/dt after this call
             integrators.central_difference(s.u, s.u_prev, s.v, s.force, s.body, self._inv_rho, dt)
-        for c in self.constraints:
+        for c in self.constraints:  # positions at t + dt
             c.apply(s.u, s.v, t_new, dt)
         s.bonds_broken += m.internal_force(s.u, s.intact, s.force, s.max_stretch)
         m.external_force(t_new, s.body)
         if self.integrator == "velocity_verlet":
             integrators.kick(s.v, s.force, s.body, self._inv_rho, dt)
-            for c in self.constraints:
-                if isinstance(c, PrescribedVelocity):
-                    c.set_velocity(s.v, t_new)
-                elif isinstance(c, Fixed):
-                    c.apply(s.u, s.v, t_new, dt)
+        else:
+            integrators.end_of_step_velocity(s.u, s.u_prev, s.v, s.force, s.body, self._inv_rho, dt)
+        for c in self.constraints:  # velocities at t + dt
+            if isinstance(c, PrescribedVelocity):
+                c.set_velocity(s.v, t_new)
+            else:
+                c.apply(s.u, s.v, t_new, dt)
         s.step += 1
         s.t = t_new
         if s.step % self.check_every == 0:
@@ -186,22 +198,39 @@ class ExplicitSolver:
         return s
 
     def check(self, s: State) -> None:
-        """Stop with :class:`SimulationUnstable` on NaN/inf or blow-up.
+        """Stop with :class:`SimulationUnstable` if the solution blew up; else remember
+        the state as the last good one.
 
-        A passing check keeps a copy of u and v (the "last good" frame; the other
-        arrays of that copy are shared with the live state).
+        Blown up means: a non-finite displacement or velocity; an intact bond stretched
+        by more than ``max_stretch`` (100 % by default: bonds of real materials break at
+        well under 1 %); or a displacement, less the mean (rigid translation) displacement,
+        larger than ``blowup_factor`` times the model size.
         """
         limit = self._blowup_limit
-        k = int(bond_based.first_bad_point(s.u, s.v, limit))
+        shift = s.u.mean(axis=0)
+        k = int(bond_based.first_bad_point(s.u, s.v, shift, limit))
+        smax = float(s.max_stretch.max()) if s.max_stretch.size else 0.0
+        if k < 0 and smax > self.max_stretch:
+            k = int(np.argmax(s.max_stretch))
         if k >= 0:
             coords = self.model.cloud.x[k].tolist()
-            mag = float(np.abs(s.u[k]).max())
-            what = "a non-finite value" if not np.isfinite(mag) else f"|u| = {mag:.3g} m"
+            mag = float(np.abs(s.u[k] - shift).max())
+            if not (np.all(np.isfinite(s.u[k])) and np.all(np.isfinite(s.v[k]))):
+                what = "a non-finite displacement or velocity"
+            elif mag > limit:
+                what = (
+                    f"|u - mean(u)| = {mag:.3g} m (limit {limit:.3g} m = "
+                    f"{self.blowup_factor} x model size)"
+                )
+            else:
+                what = (
+                    f"an intact bond stretched by {s.max_stretch[k]:.3g} (limit "
+                    f"{self.max_stretch:.3g})"
+                )
             raise SimulationUnstable(
                 f"the run went unstable at step {s.step}, t = {s.t:.6g} s: point {k} at "
-                f"{coords} has {what} (limit {limit:.3g} m = {self.blowup_factor} x model "
-                f"size). Reduce the time step (now {self.dt:.3g} s, stable limit "
-                f"{self.stable_time_step:.3g} s) or check the loads.",
+                f"{coords} has {what}. Reduce the time step (now {self.dt:.3g} s, stable "
+                f"limit {self.stable_time_step:.3g} s) or check the loads.",
                 step=s.step,
                 time=s.t,
                 point=k,
@@ -209,12 +238,12 @@ class ExplicitSolver:
                 last_good=self._last_good,
             )
         good = self._last_good
-        if good is None or good.u.shape != s.u.shape:
+        if good is None or good.u.shape != s.u.shape or good.intact.shape != s.intact.shape:
             self._last_good = s.copy()
-        else:
-            good.u[:] = s.u
-            good.v[:] = s.v
-            good.t, good.step = s.t, s.step
+        else:  # copy into the kept arrays: no allocation in the time loop
+            for name in ("u", "v", "force", "body", "u_prev", "intact", "max_stretch"):
+                getattr(good, name)[...] = getattr(s, name)
+            good.t, good.step, good.bonds_broken = s.t, s.step, s.bonds_broken
 
     def irun(self, s: State, n_steps: int) -> Iterator[State]:
         """Yield the state after each of ``n_steps`` steps."""
@@ -222,13 +251,15 @@ class ExplicitSolver:
             yield self.step(s)
 
     def run(self, s: State, n_steps: int) -> State:
-        """Advance ``n_steps`` steps and return the state."""
+        """Advance ``n_steps`` steps, check the final state, and return it."""
         for _ in self.irun(s, n_steps):
             pass
+        if s.step % self.check_every:
+            self.check(s)
         return s
 
     def steps_for(self, end_time: float) -> int:
-        """Number of steps to reach ``end_time`` (s), rounded to the nearest step."""
+        """Number of steps to reach ``end_time`` (s): the smallest n with n dt >= end_time."""
         return int(np.ceil(end_time / self.dt - 1e-9))
 
 
