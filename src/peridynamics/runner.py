@@ -162,22 +162,14 @@ def build_conditions(deck: dk.Deck, cloud: PointCloud) -> tuple[list, list, list
                     "overlap); a degree of freedom can have one kinematic condition only",
                 )
             owner[np.ix_(nodes, comps)] = ibc
-        if isinstance(spec, dk.DisplacementBC):
-            kin.append(
-                bc.PrescribedDisplacement(
-                    nodes,
-                    {str(k): v for k, v in spec.components.items()},
-                    time_function(spec.time_function),
-                )
+        if isinstance(spec, dk.DisplacementBC | dk.VelocityBC):
+            kind = (
+                bc.PrescribedDisplacement
+                if isinstance(spec, dk.DisplacementBC)
+                else bc.PrescribedVelocity
             )
-        elif isinstance(spec, dk.VelocityBC):
-            kin.append(
-                bc.PrescribedVelocity(
-                    nodes,
-                    {str(k): v for k, v in spec.components.items()},
-                    time_function(spec.time_function),
-                )
-            )
+            values = {str(k): v for k, v in spec.components.items()}
+            kin.append(kind(nodes, values, time_function(spec.time_function)))
         elif isinstance(spec, dk.FixedBC):
             kin.append(bc.Fixed(nodes, tuple(spec.components) if spec.components else None))
         elif isinstance(spec, dk.InitialVelocityBC):
