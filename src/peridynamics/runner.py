@@ -365,9 +365,16 @@ class Simulation:
         return s.steps if s.steps is not None else self.solver.steps_for(s.end_time or 0.0)
 
     def fingerprint(self) -> str:
-        """Hash of the validated deck (a checkpoint only resumes the same deck)."""
+        """Hash of the validated deck, the package version and (for mesh geometries) the
+        mesh file: a checkpoint only resumes the same problem with the same code."""
+        from peridynamics import __version__
+
         text = json.dumps(self.deck.model_dump(mode="json", by_alias=True), sort_keys=True)
-        return hashlib.sha256(text.encode()).hexdigest()
+        h = hashlib.sha256(text.encode())
+        h.update(__version__.encode())
+        if isinstance(self.deck.geometry, dk.MeshGeometry):
+            h.update(Path(self.deck.geometry.file).read_bytes())
+        return h.hexdigest()
 
     def _frame(self, out: Path, s: State, records: dict, name: str | None = None) -> None:
         m = self.model
