@@ -12,6 +12,8 @@ import shutil
 import sys
 from pathlib import Path
 
+import numpy as np
+
 from peridynamics import __version__
 
 EXIT_OK, EXIT_INVALID, EXIT_UNSTABLE = 0, 2, 3
@@ -186,6 +188,100 @@ def cmd_bench(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_dispersion(args: argparse.Namespace) -> int:
+    """Dispersion curve of the semi-discrete relation (seed 003), or grid advice."""
+    from peridynamics.analysis import dispersion as dsp
+
+    if args.frequency is not None or args.pulse_duration is not None:
+        return _advise(args)
+    if not args.m >= 1:
+        _err("--m must be >= 1 (delta = m h)")
+        return EXIT_INVALID
+    if args.n_points < 2:
+        _err("--n-points must be >= 2")
+        return EXIT_INVALID
+    if args.dim == 1 and args.theta != 0.0:
+        _err("--theta is for --dim 2")
+        return EXIT_INVALID
+    nh = np.linspace(0.0, 2.0, args.n_points)
+    curve = (
+        dsp.semi_discrete_1d(nh, args.m)
+        if args.dim == 1
+        else dsp.semi_discrete_2d(nh, args.m, args.theta)
+    )
+    if args.json:
+        print(json.dumps(curve.as_dict()))
+    if args.plot:
+        from peridynamics.io.plots import plot_histories
+
+        label = f"{args.dim}-D, delta = {args.m:g} h" + (
+            f", theta = {args.theta:g} deg" if args.dim == 2 else ""
+        )
+        plot_histories(
+            Path(args.plot),
+            curve.N_h.tolist(),
+            {
+                "v / v0": curve.v_over_v0.tolist(),
+                "omega / omega0": curve.omega_over_omega0.tolist(),
+                "group velocity / v0": curve.group_velocity_over_v0.tolist(),
+            },
+            f"semi-discrete dispersion (seed 003), {label}",
+            xlabel="N_h = kappa h / (2 pi)",
+            xscale=1.0,
+        )
+        if not args.json:
+            print(f"wrote {args.plot}")
+    if not args.json and not args.plot:
+        for a, v, w, g in zip(
+            curve.N_h[:: max(1, len(nh) // 20)],
+            curve.v_over_v0[:: max(1, len(nh) // 20)],
+            curve.omega_over_omega0[:: max(1, len(nh) // 20)],
+            curve.group_velocity_over_v0[:: max(1, len(nh) // 20)],
+            strict=True,
+        ):
+            print(f"N_h {a:6.3f}  v/v0 {v:8.5f}  omega/omega0 {w:8.5f}  v_g/v0 {g:9.5f}")
+    return EXIT_OK
+
+
+def _advise(args: argparse.Namespace) -> int:
+    from peridynamics.analysis import dispersion as dsp
+
+    if args.frequency is not None and args.pulse_duration is not None:
+        _err("give --frequency or --pulse-duration, not both")
+        return EXIT_INVALID
+    # a pulse of duration T carries most of its energy below about 2 / T
+    freq = args.frequency if args.frequency is not None else 2.0 / args.pulse_duration
+    try:
+        adv = dsp.advise_1d(
+            freq, args.tolerance, args.youngs_modulus, args.density, m_min=args.m_min
+        )
+    except ValueError as exc:
+        _err(f"error: {exc}")
+        return EXIT_INVALID
+    if args.json:
+        print(
+            json.dumps(
+                {
+                    "frequency_hz": adv.frequency,
+                    "m": adv.m,
+                    "spacing_m": adv.spacing,
+                    "horizon_m": adv.horizon,
+                    "max_phase_error": adv.max_phase_error,
+                    "table": adv.table,
+                }
+            )
+        )
+        return EXIT_OK
+    print(f"up to {adv.frequency:.4g} Hz with phase-speed error <= {args.tolerance:g}:")
+    print(
+        f"  use m = {adv.m}, dx = {adv.spacing:.4g} m, delta = {adv.horizon:.4g} m "
+        f"(error {adv.max_phase_error:.3g})"
+    )
+    for row in adv.table:
+        print(f"  m = {int(row['m']):2d}: coarsest dx = {row['spacing_m']:.4g} m")
+    return EXIT_OK
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser."""
     p = argparse.ArgumentParser(
@@ -232,6 +328,25 @@ def build_parser() -> argparse.ArgumentParser:
     e.add_argument("dest", nargs="?")
     e.add_argument("--force", action="store_true", help="replace an existing copy")
     e.set_defaults(func=cmd_examples)
+
+    d = sub.add_parser("dispersion", help="dispersion curves (seed 003) and grid advice")
+    d.add_argument("--dim", type=int, choices=[1, 2], default=1)
+    d.add_argument("--m", type=float, default=3.015, help="delta / h (default 3.015)")
+    d.add_argument("--theta", type=float, default=0.0, help="direction in degrees (2-D)")
+    d.add_argument("--n-points", type=int, default=401, help="samples of N_h in [0, 2]")
+    d.add_argument("--json", action="store_true", help="print the curve as JSON")
+    d.add_argument("--plot", metavar="FILE.png", help="draw the curve")
+    d.add_argument("--frequency", type=float, help="advice: highest frequency in the load (Hz)")
+    d.add_argument(
+        "--pulse-duration",
+        type=float,
+        help="advice: shortest pulse duration (s); frequency = 2 / duration",
+    )
+    d.add_argument("--tolerance", type=float, default=0.01, help="advice: phase-speed error")
+    d.add_argument("--youngs-modulus", type=float, default=20e9, help="advice: E (Pa)")
+    d.add_argument("--density", type=float, default=2620.0, help="advice: rho (kg/m^3)")
+    d.add_argument("--m-min", type=int, default=3, help="advice: smallest m to recommend")
+    d.set_defaults(func=cmd_dispersion)
 
     b = sub.add_parser("bench", help="benchmark the explicit PMB step (Numba vs NumPy)")
     b.add_argument("--json", action="store_true", help="print a JSON list of cases")

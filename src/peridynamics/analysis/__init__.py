@@ -1,5 +1,40 @@
-"""Post-processing and analysis tools."""
+"""Post-processing and analysis tools: crack tracking and dispersion relations."""
 
 from peridynamics.analysis.crack import branching, count_branches, crack_tip, tip_speed
+from peridynamics.analysis.dispersion import (
+    Advice,
+    Dispersion,
+    advise_1d,
+    bloch_dispersion,
+    continuous_1d,
+    fdm_1d,
+    fully_discrete_1d,
+    lattice_family_2d,
+    oscillation_index_2d,
+    semi_discrete_1d,
+    semi_discrete_2d,
+    semi_discrete_omega_1d,
+    zero_energy_points_1d,
+    zero_group_velocity_points_1d,
+)
 
-__all__ = ["branching", "count_branches", "crack_tip", "tip_speed"]
+__all__ = [
+    "Advice",
+    "Dispersion",
+    "advise_1d",
+    "bloch_dispersion",
+    "branching",
+    "continuous_1d",
+    "count_branches",
+    "crack_tip",
+    "fdm_1d",
+    "fully_discrete_1d",
+    "lattice_family_2d",
+    "oscillation_index_2d",
+    "semi_discrete_1d",
+    "semi_discrete_2d",
+    "semi_discrete_omega_1d",
+    "tip_speed",
+    "zero_energy_points_1d",
+    "zero_group_velocity_points_1d",
+]
