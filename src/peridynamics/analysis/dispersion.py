@@ -33,6 +33,11 @@ from scipy.special import sici
 F = NDArray[np.float64]
 
 
+def _one_minus_cos(x: ArrayLike) -> F:
+    """1 - cos x computed as 2 sin^2(x/2): no cancellation for small wavenumbers."""
+    return 2.0 * np.sin(0.5 * np.asarray(x, dtype=float)) ** 2
+
+
 # ----------------------------------------------------------------------- 1-D, seed 000
 def discrete_weights_1d(m: int) -> F:
     """Weights w_q, q = 1..m, of the seed-000 1-D stencil: 1, ..., 1, 1/2."""
@@ -60,7 +65,7 @@ def fully_discrete_1d(
     q = np.arange(1, m + 1)
     w = discrete_weights_1d(m)
     # cos(w dt) - 1 = -2 sin^2(w dt / 2): solve for the sine (no cancellation at small dt)
-    s = np.sum(w * (1.0 - np.cos(np.multiply.outer(k, q) * dx)) / q, axis=-1)
+    s = np.sum(w * _one_minus_cos(np.multiply.outer(k, q) * dx) / q, axis=-1)
     return _omega_from_half_sine2(c2 * dt**2 / (m**2 * dx**2) * s, dt)
 
 
@@ -80,7 +85,7 @@ def semi_discrete_omega_1d(
     k = np.asarray(k, dtype=float)
     q = np.arange(1, m + 1)
     w = discrete_weights_1d(m)
-    s = np.sum(w * (1.0 - np.cos(np.multiply.outer(k, q) * dx)) / q, axis=-1)
+    s = np.sum(w * _one_minus_cos(np.multiply.outer(k, q) * dx) / q, axis=-1)
     return np.sqrt(youngs_modulus / density * 4.0 * s / (m**2 * dx**2))
 
 
@@ -88,7 +93,7 @@ def fdm_1d(k: ArrayLike, dx: float, dt: float, youngs_modulus: float, density: f
     """Central-difference FDM: cos(omega dt) - 1 = (c dt / dx)^2 (cos(k dx) - 1) (rad/s)."""
     k = np.asarray(k, dtype=float)
     courant2 = youngs_modulus / density * dt**2 / dx**2
-    return _omega_from_half_sine2(0.5 * courant2 * (1.0 - np.cos(k * dx)), dt)
+    return _omega_from_half_sine2(0.5 * courant2 * _one_minus_cos(k * dx), dt)
 
 
 # ----------------------------------------------------------------------- 1-D, seed 003
@@ -118,12 +123,13 @@ def semi_discrete_1d(N_h: ArrayLike, m: float = 3.015) -> Dispersion:
 
     v/v0 = (1 / (pi N_h m)) sqrt(S), omega/omega0 = (2/m) sqrt(S),
     v_g/v0 = (1/m) sum_j sin(2 pi N_h j) / sqrt(S), with S = sum_j (1 - cos 2 pi N_h j)/j.
-    The long-wave limit (N_h -> 0) is sqrt(n (n + 1)) / m.
+    The long-wave limit (N_h -> 0) is sqrt(n (n + 1)) / m. At integer N_h > 0 the group
+    velocity jumps from -v_long to +v_long; the returned value there is +v_long.
     """
     nh = np.atleast_1d(np.asarray(N_h, dtype=float))
     j = np.arange(1, neighbours_1d(m) + 1)
     x = 2.0 * np.pi * np.multiply.outer(nh, j)
-    S = np.sum((1.0 - np.cos(x)) / j, axis=-1)
+    S = np.sum(_one_minus_cos(x) / j, axis=-1)
     G = np.sum(np.sin(x), axis=-1)
     n = len(j)
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -163,7 +169,7 @@ def zero_group_velocity_points_1d(m: float = 3.015, N_max: float = 1.0, samples:
 def continuous_1d(kappa_delta: ArrayLike) -> F:
     """Seed 003 eqs 14-16: v/v0 = (2 / (kappa delta)) sqrt(Cin(kappa delta)) for the
     integral operator with c = 2E/(A delta^2), Cin(x) = gamma + ln x - Ci(x)."""
-    x = np.atleast_1d(np.asarray(kappa_delta, dtype=float))
+    x = np.abs(np.atleast_1d(np.asarray(kappa_delta, dtype=float)))  # even in kappa
     with np.errstate(divide="ignore", invalid="ignore"):
         cin = np.euler_gamma + np.log(x) - sici(x)[1]
         # small x: the series sum_k (-1)^(k+1) x^(2k) / (2k (2k)!) avoids cancellation
@@ -196,7 +202,7 @@ def semi_discrete_2d(N_h: ArrayLike, m: float = 3.015, theta_deg: float = 0.0) -
     a = xi @ np.array([np.cos(t), np.sin(t)])  # xi.b / h
     r = np.hypot(xi[:, 0], xi[:, 1])  # |xi| / h
     phase = 2.0 * np.pi * np.multiply.outer(nh, a)
-    S = np.sum((1.0 - np.cos(phase)) / r, axis=-1)
+    S = np.sum(_one_minus_cos(phase) / r, axis=-1)
     G = np.sum(a * np.sin(phase) / r, axis=-1)
     pref = 1.0 / (np.pi * m)  # (h/(pi delta))
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -247,7 +253,7 @@ def bloch_dispersion(model: object, point: int, wavevectors: ArrayLike, mode: st
     kv = np.atleast_2d(np.asarray(wavevectors, dtype=float))
     if kv.shape[1] != xi.shape[1]:
         kv = kv.T
-    one_minus_cos = 1.0 - np.cos(kv @ xi.T)  # (n_k, n_bonds)
+    one_minus_cos = _one_minus_cos(kv @ xi.T)  # (n_k, n_bonds)
     if mode == "scalar":
         return np.sqrt(np.maximum(one_minus_cos @ w, 0.0) / rho)
     if mode != "tensor":
