@@ -36,7 +36,11 @@ def list_examples() -> dict[str, Path]:
         rel = p.relative_to(root)
         name = rel.parent.as_posix() if p.stem == "deck" else rel.with_suffix("").as_posix()
         out[name] = p
-    return out
+    for folder in sorted(d for d in root.iterdir() if d.is_dir()):
+        scripts = sorted(folder.glob("*.py"))
+        if scripts and not any(folder.glob("*.yaml")):  # a script example (figures, ...)
+            out[folder.name] = scripts[0]
+    return dict(sorted(out.items()))
 
 
 def _err(msg: str) -> None:
@@ -145,11 +149,12 @@ def cmd_examples(args: argparse.Namespace) -> int:
     src = ex[args.name]
     dest = Path(args.dest or ".")
     dest.mkdir(parents=True, exist_ok=True)
-    target = dest / (src.parent.name if src.stem == "deck" else src.name)
+    whole_folder = src.stem == "deck" or src.suffix == ".py"
+    target = dest / (src.parent.name if whole_folder else src.name)
     if target.exists() and not args.force:
         _err(f"{str(target)!r} exists; not overwriting your copy (use --force to replace it)")
         return EXIT_INVALID
-    if src.stem == "deck":  # a folder example: copy the whole folder
+    if whole_folder:  # a folder example: copy the whole folder
         shutil.copytree(src.parent, target, dirs_exist_ok=True)
     else:
         shutil.copy2(src, target)
