@@ -294,6 +294,26 @@ class Recorder:
         )
         return float(_reduce(vals, probe.reduce or "mean"))
 
+    def check_fracture(self, s: State, broken_before: int) -> bool:
+        """Record the fracture time and damaged zone the first time the largest damage
+        reaches the threshold (only evaluated when bonds broke in this step)."""
+        fr = self.deck.output.fracture
+        if fr is None or "fracture_time_s" in self.records or s.bonds_broken == broken_before:
+            return False
+        damage = self.model.point_damage(s.intact)
+        hit = damage >= fr.damage_threshold
+        if not np.any(hit):
+            return False
+        x = self.model.cloud.x[hit]
+        self.records["fracture_time_s"] = s.t
+        self.records["fracture_step"] = s.step
+        if self.model.dim == 1:
+            self.records["fracture_position_m"] = [float(x[:, 0].min()), float(x[:, 0].max())]
+        else:
+            self.records["fracture_position_m"] = [x.min(axis=0).tolist(), x.max(axis=0).tolist()]
+        self.records["fracture_damage"] = damage.tolist() if self.model.dim == 1 else None
+        return True
+
     def record(self, s: State) -> None:
         """Append one record."""
         m, r = self.model, self.records
@@ -441,8 +461,13 @@ class Simulation:
         try:
             with bar:
                 while state.step < n_total:
+                    broken_before = state.bonds_broken
                     self.solver.step(state)
                     steps_done_here += 1
+                    fractured = recorder.check_fracture(state, broken_before)
+                    if fractured and o.fracture is not None and o.fracture.stop:
+                        recorder.record(state)
+                        break
                     if state.step % o.history_every == 0 or state.step == n_total:
                         recorder.record(state)
                     if o.vtk_every and state.step % o.vtk_every == 0:
@@ -520,6 +545,12 @@ class Simulation:
                 "peak_time_s": float(t[k]) if len(v) else None,
                 "arrival_time_s": float(t[arrived[0]]) if arrived.size else None,
             }
+        if self.deck.output.fracture is not None:
+            results["fracture_time_s"] = r.get("fracture_time_s")
+            results["fracture_position_m"] = r.get("fracture_position_m")
+            results["fracture_step"] = r.get("fracture_step")
+            if r.get("fracture_damage") is not None:
+                results["damage_at_fracture"] = r["fracture_damage"]
         ct = self.deck.output.crack_tip
         if ct is not None:
             pos = np.asarray(r["crack_tip_m"])

@@ -459,6 +459,14 @@ class CrackTip(Strict):
     damage_threshold: Annotated[float, Field(gt=0, lt=1), _Num] = 0.35
 
 
+class Fracture(Strict):
+    """Fracture detection: the first time any point's damage reaches ``damage_threshold``
+    (seed 000: phi0 = 0.3), checked after every step in which bonds break."""
+
+    damage_threshold: Annotated[float, Field(gt=0, le=1), _Num] = 0.3
+    stop: bool = False
+
+
 class Output(Strict):
     """What to write."""
 
@@ -472,6 +480,7 @@ class Output(Strict):
     ]
     probes: list[Probe] = []
     crack_tip: CrackTip | None = None
+    fracture: Fracture | None = None
     plot: Literal["auto", "damage", "probes", "none"] = "auto"
 
 
