@@ -35,6 +35,8 @@ from peridynamics.loading import time_functions as tf
 from peridynamics.materials import MATERIALS
 from peridynamics.model import Model
 from peridynamics.solvers.explicit import ExplicitSolver, SimulationUnstable
+from peridynamics.solvers.fdm import FDMModel1D
+from peridynamics.solvers.hybrid import HybridSolver, SwitchAtStretch
 from peridynamics.solvers.state import State
 
 COMP = {"x": 0, "y": 1, "z": 2}
@@ -120,6 +122,40 @@ def _collect_refs(spec: dk.RegionSpec, resolve: Callable[[str], Any]) -> None:
             _collect_refs(s, resolve)
     elif k == "not_":
         _collect_refs(v, resolve)
+
+
+def _hybrid_solver(
+    deck: dk.Deck, cloud: PointCloud, second: Model, body: list, kin: list, init: list
+) -> HybridSolver:
+    """The first (cheap) model and the hybrid solver around it and the deck's model."""
+    s, h = deck.solver, deck.solver.hybrid
+    assert h is not None
+    material = second.material
+    first: Model
+    if h.first == "fdm":
+        first = FDMModel1D(cloud, material, body)
+    else:
+        bonds = build_bonds(
+            cloud, h.first_horizon_factor * cloud.spacing, deck.discretisation.partial_volume
+        )
+        first = Model(cloud, bonds, material, NO_DAMAGE, body)
+    limit = min(first.stable_time_step(), second.stable_time_step())
+    dt = s.time_step if s.time_step is not None else s.safety_factor * limit
+    common: dict[str, Any] = dict(
+        time_step=dt,
+        integrator=s.integrator,
+        constraints=kin,
+        initial_velocities=init,
+        allow_unstable=s.allow_unstable,
+        blowup_factor=s.blowup_factor,
+        max_stretch=s.max_stretch,
+        check_every=s.check_every,
+    )
+    return HybridSolver(
+        ExplicitSolver(first, **common),
+        ExplicitSolver(second, **common),
+        SwitchAtStretch(h.switch_fraction),
+    )
 
 
 def time_function(spec: Any) -> tf.TimeFunction:
@@ -273,8 +309,11 @@ class Recorder:
 
     def probe_value(self, probe: dk.Probe, s: State, damage: NDArray) -> float:
         """One number for a probe at the current state."""
-        nodes = self.model.cloud.node_set(probe.set)
         q = probe.quantity
+        if q == "section_stress":
+            assert probe.position is not None
+            return self.model.section_stress(s.u, s.intact, probe.position)
+        nodes = self.model.cloud.node_set(probe.set)
         if q in ("damage", "max_stretch"):
             vals = damage[nodes] if q == "damage" else s.max_stretch[nodes]
             return float(_reduce(vals, probe.reduce or "max"))
@@ -349,7 +388,7 @@ class Simulation:
     deck: dk.Deck
     cloud: PointCloud
     model: Model
-    solver: ExplicitSolver
+    solver: ExplicitSolver | HybridSolver
     setup_s: float = 0.0
 
     @classmethod
@@ -359,9 +398,21 @@ class Simulation:
         cloud = build_cloud(deck)
         bonds = build_bonds_for(deck, cloud)
         body, kin, init = build_conditions(deck, cloud)
-        model = build_model(deck, cloud, bonds, body)
         s = deck.solver
+        if s.method == "fdm":
+            material = MATERIALS[deck.material.model](
+                deck.material.youngs_modulus,
+                deck.material.density,
+                deck.material.micromodulus_profile,
+            )
+            model: Model = FDMModel1D(cloud, material, body)
+        else:
+            model = build_model(deck, cloud, bonds, body)
         try:
+            solver: ExplicitSolver | HybridSolver
+            if s.hybrid is not None:
+                solver = _hybrid_solver(deck, cloud, model, body, kin, init)
+                return cls(deck, cloud, model, solver, setup_s=time.perf_counter() - t0)
             solver = ExplicitSolver(
                 model,
                 time_step=s.time_step,
@@ -464,6 +515,8 @@ class Simulation:
                     broken_before = state.bonds_broken
                     self.solver.step(state)
                     steps_done_here += 1
+                    if state.phase == 1 and "switch_time_s" not in recorder.records:
+                        recorder.records["switch_time_s"] = state.t  # hybrid handed over
                     fractured = recorder.check_fracture(state, broken_before)
                     if fractured and o.fracture is not None and o.fracture.stop:
                         recorder.record(state)
@@ -545,6 +598,9 @@ class Simulation:
                 "peak_time_s": float(t[k]) if len(v) else None,
                 "arrival_time_s": float(t[arrived[0]]) if arrived.size else None,
             }
+        if isinstance(self.solver, HybridSolver):
+            results["switch_time_s"] = r.get("switch_time_s")
+            results["switched"] = s.phase == 1
         if self.deck.output.fracture is not None:
             results["fracture_time_s"] = r.get("fracture_time_s")
             results["fracture_position_m"] = r.get("fracture_position_m")
@@ -623,6 +679,7 @@ class Simulation:
                 "velocity": "m/s",
                 "force_density": "N/m^3",
                 "reaction_force": "N",
+                "section_stress": "Pa",
                 "max_stretch": "-",
                 "damage": "-",
             }

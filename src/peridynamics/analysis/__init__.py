@@ -1,5 +1,6 @@
 """Post-processing and analysis tools: crack tracking and dispersion relations."""
 
+from peridynamics.analysis.attenuation import corrected_strength, fit_attenuation
 from peridynamics.analysis.crack import branching, count_branches, crack_tip, tip_speed
 from peridynamics.analysis.dispersion import (
     Advice,
@@ -25,8 +26,10 @@ __all__ = [
     "bloch_dispersion",
     "branching",
     "continuous_1d",
+    "corrected_strength",
     "count_branches",
     "crack_tip",
+    "fit_attenuation",
     "fdm_1d",
     "fully_discrete_1d",
     "lattice_family_2d",

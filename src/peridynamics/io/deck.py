@@ -414,10 +414,21 @@ class Precrack(Strict):
 
 
 # ----------------------------------------------------------------------------- solver
+class Hybrid(Strict):
+    """Run a cheap first model until the stretch reaches ``switch_fraction`` x s0, then
+    the deck's peridynamic model (seed 000 section 3.3)."""
+
+    first: Literal["fdm", "pd"]
+    first_horizon_factor: Annotated[float, Field(ge=1.0, allow_inf_nan=False), _Num] = 1.0
+    switch_fraction: Annotated[float, Field(gt=0, le=1, allow_inf_nan=False), _Num] = 0.9
+
+
 class Solver(Strict):
     """Explicit dynamics."""
 
     type: Literal["explicit"] = "explicit"
+    method: Literal["pd", "fdm"] = "pd"
+    hybrid: Hybrid | None = None
     integrator: Literal["velocity_verlet", "central_difference"] = "velocity_verlet"
     time_step: PosFloat | None = None
     safety_factor: Annotated[float, Field(gt=0, le=1, allow_inf_nan=False), _Num] = 0.8
@@ -432,12 +443,23 @@ class Solver(Strict):
     def _length(self) -> Solver:
         if (self.end_time is None) == (self.steps is None):
             raise ValueError("[end_time] give exactly one of end_time (s) or steps")
+        if self.method == "fdm" and self.hybrid is not None:
+            raise ValueError(
+                "[hybrid] a hybrid run switches to the deck's PD model: "
+                "use method: pd with hybrid: {first: fdm}"
+            )
         return self
 
 
 # ----------------------------------------------------------------------------- output
 Quantity = Literal[
-    "displacement", "velocity", "force_density", "reaction_force", "max_stretch", "damage"
+    "displacement",
+    "velocity",
+    "force_density",
+    "reaction_force",
+    "max_stretch",
+    "damage",
+    "section_stress",
 ]
 
 
@@ -446,9 +468,19 @@ class Probe(Strict):
 
     name: str = Field(min_length=1)
     quantity: Quantity
-    set: str
+    set: str = "all"
     component: Literal["x", "y", "z", "magnitude"] = "x"
     reduce: Literal["mean", "sum", "max", "min"] | None = None
+    position: Finite | None = None  # section_stress: x of the section (1-D, m)
+
+    @model_validator(mode="after")
+    def _section(self) -> Probe:
+        if (self.quantity == "section_stress") != (self.position is not None):
+            raise ValueError(
+                "[position] section_stress needs position (x of the section, "
+                "m); other quantities take none"
+            )
+        return self
 
 
 class CrackTip(Strict):
@@ -661,6 +693,12 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
                 make_crack(crack.points)
             except ValueError as exc:
                 errors.append((f"precracks.{n}.points", str(exc)))
+    if deck.dim != 1:
+        if deck.solver.method == "fdm" or deck.solver.hybrid is not None:
+            errors.append(("solver.method", "finite differences and hybrids are 1-D"))
+        for n, probe in enumerate(deck.output.probes):
+            if probe.quantity == "section_stress":
+                errors.append((f"output.probes.{n}.quantity", "section_stress is 1-D"))
     for n, probe in enumerate(deck.output.probes):
         if probe.set not in sets:
             errors.append(

@@ -27,6 +27,8 @@ class State:
     max_stretch : (n,) largest stretch of an intact bond per point.
     bonds_broken : int
         Directed bonds broken since t = 0 (pre-cracks excluded).
+    phase : int
+        Hybrid solvers: 0 before the switch to the second model, 1 after.
     """
 
     t: float
@@ -39,6 +41,7 @@ class State:
     intact: NDArray[np.uint8]
     max_stretch: NDArray[np.float64]
     bonds_broken: int = 0
+    phase: int = 0
 
     def copy(self) -> State:
         """Deep copy."""
@@ -62,10 +65,12 @@ class State:
         """Inverse of :meth:`to_arrays`."""
         kw: dict[str, Any] = {}
         for f in fields(cls):
+            if f.name not in data:  # checkpoints written before the field existed
+                continue
             a = data[f.name]
             if f.name == "t":
                 kw[f.name] = float(a)
-            elif f.name in ("step", "bonds_broken"):
+            elif f.name in ("step", "bonds_broken", "phase"):
                 kw[f.name] = int(a)
             else:
                 kw[f.name] = np.array(a)

@@ -1,0 +1,69 @@
+"""1-D explicit finite differences for the wave equation (seed 000 eq. 17).
+
+``FDMModel1D`` is a drop-in model for :class:`~peridynamics.solvers.ExplicitSolver`:
+rho u_tt = E (u_{i+1} - 2 u_i + u_{i-1}) / dx^2 + b_i on a uniform node grid, with free
+ends (the missing neighbour term is dropped, i.e. a ghost node u_{-1} = u_0). With the
+central-difference integrator this is the classical explicit FDM; it is exactly what
+bond-based PD with delta = dx and the seed-000 partial volumes computes (weight 1/2 on
+the single neighbour at delta), which the tests check to 1e-12.
+
+It carries the nearest-neighbour bond list (for bookkeeping, the hybrid switch and the
+shared output); its "stretch" is Delta u / dx between neighbours, and it never breaks
+anything.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+from peridynamics.bonds import build_bonds
+from peridynamics.damage import NO_DAMAGE
+from peridynamics.geometry.cloud import PointCloud
+from peridynamics.loading.conditions import BodyForce
+from peridynamics.materials.bond_based import BondBasedMaterial
+from peridynamics.model import Model
+
+
+class FDMModel1D(Model):
+    """Second-order central finite differences on a sorted uniform 1-D grid."""
+
+    def __init__(
+        self, cloud: PointCloud, material: BondBasedMaterial, body_forces: Sequence[BodyForce] = ()
+    ) -> None:
+        if cloud.dim != 1:
+            raise ValueError("the finite-difference solver is 1-D")
+        x = cloud.x[:, 0]
+        dx = np.diff(x)
+        if np.any(dx <= 0) or not np.allclose(dx, cloud.spacing, rtol=1e-9, atol=0):
+            raise ValueError("the finite-difference solver needs sorted nodes at a uniform spacing")
+        bonds = build_bonds(cloud, cloud.spacing, "truncated")
+        super().__init__(cloud, bonds, material, NO_DAMAGE, body_forces)
+        self._coef = material.youngs_modulus / cloud.spacing**2
+
+    def internal_force(
+        self, u: NDArray, intact: NDArray[np.uint8], force: NDArray, max_stretch: NDArray
+    ) -> int:
+        """Fill ``force`` (n, 1) with E u_xx (N/m^3) and ``max_stretch`` with the largest
+        tensile Delta u / dx to a neighbour. Never breaks anything; returns 0."""
+        du = np.diff(u[:, 0])  # u_{i+1} - u_i, shape (n - 1,)
+        f = force[:, 0]
+        f[:] = 0.0
+        f[:-1] += du
+        f[1:] -= du
+        f *= self._coef
+        strain = du / self.cloud.spacing
+        ms = np.zeros(len(u))
+        ms[:-1] = strain
+        ms[1:] = np.maximum(ms[1:], strain)
+        max_stretch[:] = np.maximum(ms, 0.0)
+        return 0
+
+    def section_stress(self, u: NDArray, intact: NDArray[np.uint8], position: float) -> float:
+        """sigma = E (u_{i+1} - u_i) / dx at the section between the nodes around
+        ``position`` (Pa, tension positive)."""
+        x = self.cloud.x[:, 0]
+        i = int(np.clip(np.searchsorted(x, position) - 1, 0, len(x) - 2))
+        return float(self.material.youngs_modulus * (u[i + 1, 0] - u[i, 0]) / self.cloud.spacing)
