@@ -53,3 +53,59 @@ def test_contract_through_the_cli(tmp_path) -> None:
     assert r["fracture_position_m"][0] <= r["fracture_position_m"][1]
     assert r["fracture_time_s"] == pytest.approx(0.4395e-3, rel=0.01)
     assert max(r["damage_at_fracture"]) >= 0.3
+
+
+def _probe(out, name: str = "stress_at_0_5m"):
+    import numpy as np
+
+    r = json.loads((out / "summary.json").read_text())["results"]["probes"][name]
+    return np.array(r["time_s"]), np.array(r["values"])
+
+
+def test_fig7a_wave_test_fdm_equals_pd1_and_dispersion_grows_with_m(tmp_path) -> None:
+    import numpy as np
+
+    runs = {}
+    for kind in ("fdm", "pd_m1", "pd_m2", "pd_m4", "pd_m8"):
+        out = tmp_path / kind
+        cli(
+            "run",
+            str(EXAMPLES / "spalling" / f"wave_{kind}.yaml"),
+            "--out",
+            str(out),
+            "--quiet",
+            check=True,
+        )
+        runs[kind] = _probe(out)
+    t, fdm = runs["fdm"]
+    _, pd1 = runs["pd_m1"]
+    assert np.abs(fdm - pd1).max() <= 1e-10 * np.abs(fdm).max()  # measured 3e-12
+    assert fdm.min() < -8e6  # the 8.9 MPa compressive pulse passed x = 0.5 m
+    # larger horizons delay the peak (slower short waves) and leave a tensile tail
+    arrival = [t[np.argmin(runs[k][1])] for k in ("pd_m1", "pd_m2", "pd_m4", "pd_m8")]
+    assert np.all(np.diff(arrival) > 0)
+    assert runs["pd_m8"][1].max() > 3 * runs["pd_m1"][1].max()
+
+
+def test_table2_test_bar_schemes(tmp_path) -> None:
+    res = {}
+    for kind in ("pd3", "pd1_pd3", "fdm_pd3"):
+        out = tmp_path / kind
+        cli(
+            "run",
+            str(EXAMPLES / "spalling" / f"test_bar_{kind}.yaml"),
+            "--out",
+            str(out),
+            "--quiet",
+            check=True,
+        )
+        res[kind] = json.loads((out / "summary.json").read_text())["results"]
+    for kind in ("pd1_pd3", "fdm_pd3"):
+        r = res[kind]
+        assert r["switched"] and r["switch_time_s"] < r["fracture_time_s"]
+    # with the synthetic pulse (SPEC.md 1.5) the hybrids spall at 0.80-0.81 m, the PD3
+    # run at 0.84-0.86 m, 8 us earlier: recorded, not the paper's claim of one position
+    assert res["fdm_pd3"]["fracture_position_m"] == res["pd1_pd3"]["fracture_position_m"]
+    assert res["pd3"]["fracture_time_s"] < res["fdm_pd3"]["fracture_time_s"]
+    for r in res.values():
+        assert 0.78 <= r["fracture_position_m"][0] <= r["fracture_position_m"][1] <= 0.87
