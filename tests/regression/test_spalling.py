@@ -109,3 +109,20 @@ def test_table2_test_bar_schemes(tmp_path) -> None:
     assert res["pd3"]["fracture_time_s"] < res["fdm_pd3"]["fracture_time_s"]
     for r in res.values():
         assert 0.78 <= r["fracture_position_m"][0] <= r["fracture_position_m"][1] <= 0.87
+
+
+def test_spalling_figures(tmp_path) -> None:
+    spec = importlib.util.spec_from_file_location(
+        "spalling_figures", EXAMPLES / "spalling" / "make_figures.py"
+    )
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    paths = mod.make_figures(tmp_path)
+    assert [p.name for p in paths] == [
+        "seed000_fig7a.png",
+        "seed000_fig7b.png",
+        "seed000_fig8a.png",
+        "seed000_fig8b.png",
+    ]
+    for p in paths:
+        assert p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and p.stat().st_size > 5000
