@@ -33,6 +33,16 @@ from peridynamics.io.deck import load_deck  # noqa: E402
 from peridynamics.runner import Simulation  # noqa: E402
 
 
+def _finish(fig: plt.Figure, ax: plt.Axes, path: Path) -> Path:
+    """Grid, legend, tight layout, save and close."""
+    ax.grid(alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=150)
+    plt.close(fig)
+    return path
+
+
 def _stress_history(
     deck: Path, overrides: list[str] | None = None, position: float = 0.5025
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -68,13 +78,7 @@ def fig7a(out: Path) -> Path:
         ylabel="stress at x = 0.5 m (MPa, tension +)",
         title="Seed 000 Fig. 7(a): Δx = 5 mm, Δt = 1 µs, p_m = 8.9 MPa, t0 = 0.12 ms",
     )
-    ax.grid(alpha=0.3)
-    ax.legend()
-    path = out / "seed000_fig7a.png"
-    fig.tight_layout()
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
-    return path
+    return _finish(fig, ax, out / "seed000_fig7a.png")
 
 
 def fig7b(out: Path) -> Path:
@@ -97,13 +101,7 @@ def fig7b(out: Path) -> Path:
         ylabel="stress at x = 0.5 m (MPa, tension +)",
         title="Seed 000 Fig. 7(b): PD with δ = 3Δx",
     )
-    ax.grid(alpha=0.3)
-    ax.legend()
-    path = out / "seed000_fig7b.png"
-    fig.tight_layout()
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
-    return path
+    return _finish(fig, ax, out / "seed000_fig7b.png")
 
 
 def fig8(out: Path) -> list[Path]:
@@ -136,12 +134,7 @@ def fig8(out: Path) -> list[Path]:
         ylabel="damage",
         title=f"Seed 000 Fig. 8(a): damage at fracture, case 1, t_F = {fracture_t * 1e3:.4f} ms",
     )
-    ax.grid(alpha=0.3)
-    ax.legend()
-    paths.append(out / "seed000_fig8a.png")
-    fig.tight_layout()
-    fig.savefig(paths[-1], dpi=150)
-    plt.close(fig)
+    paths.append(_finish(fig, ax, out / "seed000_fig8a.png"))
     fig, ax = plt.subplots(figsize=(7.5, 4.5))
     for tt, prof in profiles.items():
         ax.plot(sections, prof / 1e6, label=f"t = {tt * 1e3:.3f} ms")
@@ -151,12 +144,7 @@ def fig8(out: Path) -> list[Path]:
         ylabel="stress (MPa, tension +)",
         title="Seed 000 Fig. 8(b): tensile stress near the free end, case 1",
     )
-    ax.grid(alpha=0.3)
-    ax.legend()
-    paths.append(out / "seed000_fig8b.png")
-    fig.tight_layout()
-    fig.savefig(paths[-1], dpi=150)
-    plt.close(fig)
+    paths.append(_finish(fig, ax, out / "seed000_fig8b.png"))
     return paths
 
 

@@ -124,6 +124,21 @@ def _collect_refs(spec: dk.RegionSpec, resolve: Callable[[str], Any]) -> None:
         _collect_refs(v, resolve)
 
 
+def _solver_options(s: dk.Solver, kin: list, init: list, time_step: float | None) -> dict[str, Any]:
+    """Keyword arguments of :class:`ExplicitSolver` from the deck's solver section."""
+    return dict(
+        time_step=time_step,
+        integrator=s.integrator,
+        constraints=kin,
+        initial_velocities=init,
+        safety_factor=s.safety_factor,
+        allow_unstable=s.allow_unstable,
+        blowup_factor=s.blowup_factor,
+        max_stretch=s.max_stretch,
+        check_every=s.check_every,
+    )
+
+
 def _hybrid_solver(
     deck: dk.Deck, cloud: PointCloud, second: Model, body: list, kin: list, init: list
 ) -> HybridSolver:
@@ -141,16 +156,7 @@ def _hybrid_solver(
         first = Model(cloud, bonds, material, NO_DAMAGE, body)
     limit = min(first.stable_time_step(), second.stable_time_step())
     dt = s.time_step if s.time_step is not None else s.safety_factor * limit
-    common: dict[str, Any] = dict(
-        time_step=dt,
-        integrator=s.integrator,
-        constraints=kin,
-        initial_velocities=init,
-        allow_unstable=s.allow_unstable,
-        blowup_factor=s.blowup_factor,
-        max_stretch=s.max_stretch,
-        check_every=s.check_every,
-    )
+    common = _solver_options(s, kin, init, time_step=dt)
     return HybridSolver(
         ExplicitSolver(first, **common),
         ExplicitSolver(second, **common),
@@ -413,18 +419,7 @@ class Simulation:
             if s.hybrid is not None:
                 solver = _hybrid_solver(deck, cloud, model, body, kin, init)
                 return cls(deck, cloud, model, solver, setup_s=time.perf_counter() - t0)
-            solver = ExplicitSolver(
-                model,
-                time_step=s.time_step,
-                integrator=s.integrator,
-                constraints=kin,
-                initial_velocities=init,
-                safety_factor=s.safety_factor,
-                allow_unstable=s.allow_unstable,
-                blowup_factor=s.blowup_factor,
-                max_stretch=s.max_stretch,
-                check_every=s.check_every,
-            )
+            solver = ExplicitSolver(model, **_solver_options(s, kin, init, s.time_step))
         except ValueError as exc:
             raise SetupError("solver.time_step", str(exc)) from None
         return cls(deck, cloud, model, solver, setup_s=time.perf_counter() - t0)
