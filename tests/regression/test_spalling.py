@@ -39,44 +39,36 @@ def test_table1_trends(rows) -> None:
 
 
 def test_contract_through_the_cli(tmp_path) -> None:
-    out = tmp_path / "c1"
-    cli(
-        "run",
-        str(EXAMPLES / "spalling" / "table1_case1.yaml"),
-        "--out",
-        str(out),
-        "--quiet",
-        check=True,
-    )
-    r = json.loads((out / "summary.json").read_text())["results"]
+    r = _run_results(tmp_path, "table1_case1")
     assert len(r["fracture_position_m"]) == 2
     assert r["fracture_position_m"][0] <= r["fracture_position_m"][1]
     assert r["fracture_time_s"] == pytest.approx(0.4395e-3, rel=0.01)
     assert max(r["damage_at_fracture"]) >= 0.3
 
 
-def _probe(out, name: str = "stress_at_0_5m"):
+def _run_results(tmp_path, stem: str) -> dict:
+    """Run ``examples/spalling/<stem>.yaml`` through the CLI; its summary's results."""
+    out = tmp_path / stem
+    cli(
+        "run", str(EXAMPLES / "spalling" / f"{stem}.yaml"), "--out", str(out), "--quiet", check=True
+    )
+    return json.loads((out / "summary.json").read_text())["results"]
+
+
+def _probe(results: dict, name: str = "stress_at_0_5m"):
     import numpy as np
 
-    r = json.loads((out / "summary.json").read_text())["results"]["probes"][name]
+    r = results["probes"][name]
     return np.array(r["time_s"]), np.array(r["values"])
 
 
 def test_fig7a_wave_test_fdm_equals_pd1_and_dispersion_grows_with_m(tmp_path) -> None:
     import numpy as np
 
-    runs = {}
-    for kind in ("fdm", "pd_m1", "pd_m2", "pd_m4", "pd_m8"):
-        out = tmp_path / kind
-        cli(
-            "run",
-            str(EXAMPLES / "spalling" / f"wave_{kind}.yaml"),
-            "--out",
-            str(out),
-            "--quiet",
-            check=True,
-        )
-        runs[kind] = _probe(out)
+    runs = {
+        k: _probe(_run_results(tmp_path, f"wave_{k}"))
+        for k in ("fdm", "pd_m1", "pd_m2", "pd_m4", "pd_m8")
+    }
     t, fdm = runs["fdm"]
     _, pd1 = runs["pd_m1"]
     assert np.abs(fdm - pd1).max() <= 1e-10 * np.abs(fdm).max()  # measured 3e-12
@@ -88,18 +80,7 @@ def test_fig7a_wave_test_fdm_equals_pd1_and_dispersion_grows_with_m(tmp_path) ->
 
 
 def test_table2_test_bar_schemes(tmp_path) -> None:
-    res = {}
-    for kind in ("pd3", "pd1_pd3", "fdm_pd3"):
-        out = tmp_path / kind
-        cli(
-            "run",
-            str(EXAMPLES / "spalling" / f"test_bar_{kind}.yaml"),
-            "--out",
-            str(out),
-            "--quiet",
-            check=True,
-        )
-        res[kind] = json.loads((out / "summary.json").read_text())["results"]
+    res = {k: _run_results(tmp_path, f"test_bar_{k}") for k in ("pd3", "pd1_pd3", "fdm_pd3")}
     for kind in ("pd1_pd3", "fdm_pd3"):
         r = res[kind]
         assert r["switched"] and r["switch_time_s"] < r["fracture_time_s"]

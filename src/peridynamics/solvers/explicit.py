@@ -14,7 +14,6 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
-from numpy.typing import NDArray
 
 from peridynamics.kernels import bond_based, integrators
 from peridynamics.loading.conditions import (
@@ -261,13 +260,3 @@ class ExplicitSolver:
     def steps_for(self, end_time: float) -> int:
         """Number of steps to reach ``end_time`` (s): the smallest n with n dt >= end_time."""
         return int(np.ceil(end_time / self.dt - 1e-9))
-
-
-def total_energy(model: Model, s: State) -> tuple[float, float]:
-    """(kinetic, strain) energy of a state (J)."""
-    return model.kinetic_energy(s.v), model.strain_energy(s.u, s.intact)
-
-
-def positions(model: Model, s: State) -> NDArray[np.float64]:
-    """Current positions x + u, shape (n, dim) (m)."""
-    return model.cloud.x + s.u
