@@ -144,3 +144,18 @@ def test_attenuation_fit_and_corrected_spall_strength() -> None:
     assert sigma0 == pytest.approx(30e6, rel=0.03)
     with pytest.raises(ValueError):
         fit_attenuation([0.1], [1.0])
+
+
+def test_fdm_numba_kernel_equals_numpy_twin() -> None:
+    """The Numba FDM operator equals its NumPy reference (force and tensile strain)."""
+    from peridynamics.kernels.fdm import fdm_force_1d
+    from peridynamics.kernels.reference import fdm_force_1d as fdm_ref
+
+    rng = np.random.default_rng(3)
+    u = rng.normal(size=(257, 1)) * 1e-4
+    force, ms = np.empty((257, 1)), np.empty(257)
+    fdm_force_1d(u, 2.5e12, 100.0, force, ms)
+    f_ref, ms_ref = fdm_ref(u, 2.5e12, 100.0)
+    np.testing.assert_allclose(force, f_ref, rtol=1e-13, atol=1e-13 * np.abs(f_ref).max())
+    np.testing.assert_array_equal(ms, ms_ref)
+    assert ms.min() >= 0.0 and ms.max() > 0.0

@@ -66,3 +66,18 @@ def damage(bond_i: NDArray, bond_volume: F, intact: NDArray, n_points: int) -> F
     lost = np.bincount(bond_i, bond_volume * (1 - np.asarray(intact, dtype=float)), n_points)
     with np.errstate(invalid="ignore", divide="ignore"):
         return np.where(tot > 0, lost / tot, 0.0)
+
+
+def fdm_force_1d(u: F, coef: float, inv_dx: float) -> tuple[F, F]:
+    """NumPy twin of :func:`peridynamics.kernels.fdm.fdm_force_1d`: the force (n, 1)
+    coef (u_{i+1} - 2 u_i + u_{i-1}) with free ends and the largest tensile
+    (u_{i+1} - u_i) inv_dx per node (n,)."""
+    du = np.diff(u[:, 0])
+    f = np.zeros(len(u))
+    f[:-1] += du
+    f[1:] -= du
+    strain = du * inv_dx
+    ms = np.zeros(len(u))
+    ms[:-1] = strain
+    ms[1:] = np.maximum(ms[1:], strain)
+    return (coef * f)[:, None], np.maximum(ms, 0.0)

@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 from peridynamics.bonds import build_bonds
 from peridynamics.damage import NO_DAMAGE
 from peridynamics.geometry.cloud import PointCloud
+from peridynamics.kernels.fdm import fdm_force_1d
 from peridynamics.loading.conditions import BodyForce
 from peridynamics.materials.bond_based import BondBasedMaterial
 from peridynamics.model import Model
@@ -42,23 +43,15 @@ class FDMModel1D(Model):
         bonds = build_bonds(cloud, cloud.spacing, "truncated")
         super().__init__(cloud, bonds, material, NO_DAMAGE, body_forces)
         self._coef = material.youngs_modulus / cloud.spacing**2
+        self._inv_dx = 1.0 / cloud.spacing
 
     def internal_force(
         self, u: NDArray, intact: NDArray[np.uint8], force: NDArray, max_stretch: NDArray
     ) -> int:
         """Fill ``force`` (n, 1) with E u_xx (N/m^3) and ``max_stretch`` with the largest
-        tensile Delta u / dx to a neighbour. Never breaks anything; returns 0."""
-        du = np.diff(u[:, 0])  # u_{i+1} - u_i, shape (n - 1,)
-        f = force[:, 0]
-        f[:] = 0.0
-        f[:-1] += du
-        f[1:] -= du
-        f *= self._coef
-        strain = du / self.cloud.spacing
-        ms = np.zeros(len(u))
-        ms[:-1] = strain
-        ms[1:] = np.maximum(ms[1:], strain)
-        max_stretch[:] = np.maximum(ms, 0.0)
+        tensile Delta u / dx to a neighbour (Numba kernel
+        :func:`~peridynamics.kernels.fdm.fdm_force_1d`). Never breaks anything; returns 0."""
+        fdm_force_1d(u, self._coef, self._inv_dx, force, max_stretch)
         return 0
 
     def section_stress(self, u: NDArray, intact: NDArray[np.uint8], position: float) -> float:

@@ -9,7 +9,7 @@ model start intact.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Protocol
 
 import numpy as np
@@ -27,23 +27,30 @@ class SwitchingRule(Protocol):
         ...
 
 
-@dataclass(frozen=True)
+@dataclass
 class SwitchAtStretch:
     """Switch when the largest tensile stretch reaches ``fraction`` x the smallest
     critical stretch of the second model (seed 000: 0.9 s0). For a finite-difference
     first model the stretch is Delta u / dx between neighbours."""
 
     fraction: float = 0.9
+    _cached: tuple[Model, float] | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if not 0 < self.fraction <= 1:
             raise ValueError("the switching fraction must be in (0, 1]")
 
     def should_switch(self, state: State, first: Model, second: Model) -> bool:
+        if self._cached is None or self._cached[0] is not second:  # once per model
+            self._cached = (second, self.threshold(second))
+        limit = self._cached[1]
+        return bool(np.isfinite(limit) and state.max_stretch.max() >= limit)
+
+    def threshold(self, second: Model) -> float:
+        """``fraction`` x the smallest finite critical stretch of ``second`` (inf when
+        nothing in it can break)."""
         finite = second.point_s0[np.isfinite(second.point_s0)]
-        if finite.size == 0:
-            return False
-        return bool(state.max_stretch.max() >= self.fraction * finite.min())
+        return float(self.fraction * finite.min()) if finite.size else float("inf")
 
 
 class HybridSolver:
