@@ -18,8 +18,10 @@ from peridynamics.bonds.surface import energy_correction_factors
 from peridynamics.damage.critical_stretch import NO_DAMAGE, CriticalStretch, family_minimum
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import bond_based
+from peridynamics.kernels.viscous import add_viscous_force
 from peridynamics.loading.conditions import BodyForce
 from peridynamics.materials.bond_based import BondBasedMaterial
+from peridynamics.materials.viscosity import BondViscosity
 
 #: uniaxial strain of the surface-correction calibration: small, so that the geometric
 #: nonlinearity of the stretch (relative O(strain)) does not bias the factors
@@ -41,6 +43,9 @@ class Model:
         Force-like loads (body forces, tractions spread over a layer).
     surface_correction : bool
         Apply the energy-method surface correction (Madenci & Oterkus 2014).
+    viscosity : BondViscosity, optional
+        Viscous bond forces (seed 003 eqs 52-56) evaluated from the velocity passed to
+        :meth:`internal_force`; ``None`` or both coefficients 0 is plain PD.
     """
 
     cloud: PointCloud
@@ -49,6 +54,7 @@ class Model:
     damage: CriticalStretch = NO_DAMAGE
     body_forces: Sequence[BodyForce] = ()
     surface_correction: bool = False
+    viscosity: BondViscosity | None = None
     stiffness: NDArray[np.float64] = field(init=False, repr=False)
     point_s0: NDArray[np.float64] = field(init=False, repr=False)
     family_s0_min: NDArray[np.float64] = field(init=False, repr=False)
@@ -71,6 +77,15 @@ class Model:
         self.family_s0_min = family_minimum(self.bonds, self.point_s0)
         self.density = np.full(c.n_points, self.material.density)
         self._force_kernel = bond_based.FORCE_KERNELS[c.dim]
+        self._viscous: tuple[float, float] | None = None
+        if self.viscosity is not None and self.viscosity.active:
+            self._viscous = self.viscosity.coefficients(
+                c.dim,
+                self.bonds.horizon,
+                c.cross_section,
+                self.material.youngs_modulus,
+                self.material.density,
+            )
 
     @property
     def dim(self) -> int:
@@ -83,16 +98,22 @@ class Model:
         return self.cloud.n_points
 
     def internal_force(
-        self, u: NDArray, intact: NDArray[np.uint8], force: NDArray, max_stretch: NDArray
+        self,
+        u: NDArray,
+        intact: NDArray[np.uint8],
+        force: NDArray,
+        max_stretch: NDArray,
+        v: NDArray | None = None,
     ) -> int:
         """Break bonds, then fill ``force`` (n, dim) with the bond force density (N/m^3).
 
         ``intact`` (n_bonds,) is updated in place; ``max_stretch`` (n,) receives the
         largest tensile stretch of an intact bond per point (0 if none is stretched).
-        Returns the number of directed bonds broken.
+        ``v`` (n, dim) is the velocity the viscous forces use (required when the model
+        has viscosity; ignored otherwise). Returns the number of directed bonds broken.
         """
         b = self.bonds
-        return int(
+        broken = int(
             self._force_kernel(
                 self.cloud.x,
                 u,
@@ -108,6 +129,27 @@ class Model:
                 self._broken_scratch,
             )
         )
+        if self._viscous is not None:
+            if v is None:
+                raise ValueError("a model with viscosity needs the velocity v in internal_force")
+            add_viscous_force(
+                self.cloud.x, u, v, b.offsets, b.bond_j, self.inv_length, b.bond_volume,
+                intact, self._viscous[0], self._viscous[1], force,
+            )  # fmt: skip
+        return broken
+
+    def viscous_power(self, u: NDArray, v: NDArray, intact: NDArray[np.uint8]) -> float:
+        """Power of the viscous forces sum_i V_i F_visc_i . v_i (W); never positive. 0 for
+        a model without viscosity."""
+        if self._viscous is None:
+            return 0.0
+        b = self.bonds
+        f = np.zeros_like(u)
+        add_viscous_force(
+            self.cloud.x, u, v, b.offsets, b.bond_j, self.inv_length, b.bond_volume,
+            intact, self._viscous[0], self._viscous[1], f,
+        )  # fmt: skip
+        return float(np.sum(self.cloud.volume[:, None] * f * v))
 
     def external_force(self, t: float, out: NDArray) -> None:
         """Fill ``out`` (n, dim) with the external body-force density at time t (N/m^3)."""
@@ -160,9 +202,23 @@ class Model:
         return float(np.sum(f * self.cloud.volume[i]) / self.cloud.cross_section)
 
     def stable_time_step(self) -> float:
-        """Largest stable explicit step, min over points of Silling & Askari's bound (s)."""
+        """Largest stable explicit step, min over points of Silling & Askari's bound (s).
+
+        With linear viscosity the bound shrinks as for a damped oscillator integrated
+        explicitly: dt = dt_el (sqrt(1 + xi^2) - xi), where xi = gamma / dt_el is the
+        damping ratio of the fastest mode (omega = 2 / dt_el) and gamma (s) the largest
+        ratio of viscous to elastic bond coefficient (the 1-D rate constant of seed 003
+        eq. 39). The quadratic term depends on the amplitude and is not included.
+        """
         out = np.empty(self.n_points)
         bond_based.stable_time_step_per_point(
             self.bonds.offsets, self.bonds.bond_length, self.stiffness, self.density, out
         )
-        return float(out.min())
+        dt = float(out.min())
+        if self._viscous is not None and self._viscous[0] > 0:
+            ok = self.stiffness > 0
+            ratio = self.bonds.bond_volume[ok] / self.stiffness[ok]
+            gamma = float(self._viscous[0] * ratio.max())
+            xi = gamma / dt
+            dt *= np.sqrt(1.0 + xi * xi) - xi
+        return dt

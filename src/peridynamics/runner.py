@@ -20,6 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.analysis.crack import branching, crack_tip, tip_speed
+from peridynamics.analysis.waves import dalembert, dominant_period, wave_errors
 from peridynamics.bonds import build_bonds, make_crack
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.damage import NO_DAMAGE, CriticalStretch
@@ -33,6 +34,7 @@ from peridynamics.io.vtk import write_pvd, write_vtu
 from peridynamics.loading import conditions as bc
 from peridynamics.loading import time_functions as tf
 from peridynamics.materials import MATERIALS
+from peridynamics.materials.viscosity import BondViscosity
 from peridynamics.model import Model
 from peridynamics.solvers.explicit import ExplicitSolver, SimulationUnstable
 from peridynamics.solvers.fdm import FDMModel1D
@@ -172,6 +174,14 @@ def time_function(spec: Any) -> tf.TimeFunction:
         return tf.Ramp(end=spec.end, start=spec.start)
     if isinstance(spec, dk.TableTF):
         return tf.Table(tuple(spec.times), tuple(spec.values))
+    if isinstance(spec, dk.SinePulseTF):
+        return tf.SinePulse(spec.duration)
+    if isinstance(spec, dk.SquarePulseTF):
+        return tf.SquarePulse(spec.duration)
+    if isinstance(spec, dk.BlastTF):
+        from peridynamics.loading.blast import BlastPulse
+
+        return BlastPulse(spec.charge_kg, spec.standoff_m, spec.shape, spec.delay)
     return tf.TriangularPulse(spec.peak, spec.rise_time, spec.duration)
 
 
@@ -218,9 +228,23 @@ def build_conditions(deck: dk.Deck, cloud: PointCloud) -> tuple[list, list, list
             init.append(bc.InitialVelocity(nodes, tuple(spec.value)))
         elif isinstance(spec, dk.BodyForceBC):
             body.append(bc.BodyForce(nodes, tuple(spec.value), time_function(spec.time_function)))
-        else:  # traction or pressure
+        elif isinstance(spec, dk.PressureBC) and spec.center is not None:
+            assert spec.value is not None
+            body.append(
+                bc.cavity_pressure_as_body_force(
+                    nodes,
+                    spec.value,
+                    cloud.x,
+                    np.asarray(spec.center, dtype=float),
+                    cloud.spacing,
+                    layer_thickness=spec.layer_thickness,
+                    function=time_function(spec.time_function),
+                )
+            )
+        else:  # traction or pressure on a flat face
             normal: NDArray[np.float64] | None
             if isinstance(spec, dk.PressureBC):
+                assert spec.value is not None and spec.normal is not None
                 n = np.asarray(spec.normal, dtype=float)
                 traction = -spec.value * n / np.linalg.norm(n)
                 normal = n
@@ -278,6 +302,9 @@ def build_model(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, body: list) -> M
         damage,
         body,
         surface_correction=deck.discretisation.surface_correction,
+        viscosity=None
+        if m.viscosity is None
+        else BondViscosity(m.viscosity.linear, m.viscosity.quadratic),
     )
 
 
@@ -623,6 +650,7 @@ class Simulation:
                 results["branching_point_m"] = point
                 results["branching_x_m"] = None if point is None else point[0]
         files = self._figure(out, s, damage, r)
+        files += self._wave_outputs(out, s, results)
         n_b = m.bonds.n_bonds
         timing = {
             "wall_s": wall,
@@ -641,6 +669,44 @@ class Simulation:
             timing,
             extra,
         )
+
+    def _wave_outputs(self, out: Path, s: State, results: dict[str, Any]) -> list[str]:
+        """results.period_s and the d'Alembert comparison (+ wave_profile.csv)."""
+        o = self.deck.output
+        files: list[str] = []
+        if o.period is not None:
+            pr = results["probes"][o.period.probe]
+            try:
+                results["period_s"] = dominant_period(
+                    pr["time_s"], pr["values"], o.period.min_period
+                )
+            except ValueError as exc:
+                results["period_s"] = None
+                results["period_error"] = str(exc)
+        wc = o.wave_comparison
+        if wc is not None:
+            mat = self.deck.material
+            speed = float(np.sqrt(mat.youngs_modulus / mat.density))
+            shape = tf.SinePulse(wc.duration) if wc.shape == "sine" else tf.SquarePulse(wc.duration)
+
+            def source(t: float) -> float:
+                return wc.amplitude * shape(t)
+
+            x = self.cloud.x[:, 0]
+            exact = dalembert(x, s.t, source, speed, wc.source_position)
+            behind = wc.source_position + speed * (s.t - wc.duration) - wc.tail_margin
+            results.update(wave_errors(x, s.u[:, 0], exact, wc.amplitude, behind))
+            results["wave_front_m"] = wc.source_position + speed * s.t
+            path = out / "wave_profile.csv"
+            np.savetxt(
+                path,
+                np.column_stack([x, s.u[:, 0], exact]),
+                delimiter=",",
+                header="x_m,u_m,u_exact_m",
+                comments="",
+            )
+            files.append(path.name)
+        return files
 
     def _figure(self, out: Path, s: State, damage: NDArray, r: dict) -> list[str]:
         kind = self.deck.output.plot

@@ -377,7 +377,41 @@ MALFORMED = [
         "missing-pressure-normal",
         setp("boundary_conditions.1", _bc(type="pressure", value=1.0e6)),
         "boundary_conditions.1.normal",
-        "required key is missing",
+        "give exactly one of normal",
+    ),
+    (
+        "pressure-normal-and-center",
+        setp(
+            "boundary_conditions.1",
+            _bc(type="pressure", value=1.0e6, normal=[1.0, 0.0], center=[0.0, 0.0]),
+        ),
+        "boundary_conditions.1.normal",
+        "give exactly one of normal",
+    ),
+    (
+        "pressure-without-value",
+        setp("boundary_conditions.1", _bc(type="pressure", normal=[1.0, 0.0])),
+        "boundary_conditions.1.value",
+        "required unless the time function is a blast",
+    ),
+    (
+        "negative-viscosity",
+        setp("material.viscosity", {"linear": -0.5}),
+        "material.viscosity.linear",
+        "greater than or equal to 0",
+    ),
+    (
+        "blast-negative-charge",
+        setp(
+            "boundary_conditions.1",
+            _bc(
+                type="pressure",
+                normal=[1.0, 0.0],
+                time_function={"type": "blast", "charge_kg": -1.0, "standoff_m": 0.5},
+            ),
+        ),
+        "boundary_conditions.1.time_function.blast.charge_kg",
+        "greater than 0",
     ),
     # -- unknown node-set references
     (

@@ -15,6 +15,7 @@ from peridynamics.analysis.dispersion import (
     semi_discrete_1d,
     semi_discrete_2d,
     semi_discrete_omega_1d,
+    viscous_1d,
     zero_energy_points_1d,
     zero_group_velocity_points_1d,
 )
@@ -38,6 +39,7 @@ __all__ = [
     "semi_discrete_2d",
     "semi_discrete_omega_1d",
     "tip_speed",
+    "viscous_1d",
     "zero_energy_points_1d",
     "zero_group_velocity_points_1d",
 ]

@@ -339,3 +339,44 @@ def _stable_fraction_1d(m: int) -> float:
     sqrt(2 rho / sum_q 2 w_q c_pd A dx / (q dx)) = m / sqrt(2 sum_q w_q / q)."""
     q = np.arange(1, m + 1)
     return float(m / np.sqrt(2.0 * np.sum(discrete_weights_1d(m) / q)))
+
+
+@dataclass(frozen=True)
+class ViscousDispersion:
+    """Seed 003 eqs 40-44 with linear viscosity b1; arrays shape (n,) against N_h.
+
+    ``v_real_over_v0`` and ``v_imag_over_v0`` are the real and imaginary parts of the
+    complex phase velocity v' (a wave decays as exp(kappa v_imag t)); ``damping_ratio``
+    is |v_i / v| with v the undamped phase velocity (eq. 44).
+    """
+
+    N_h: F
+    v_real_over_v0: F
+    v_imag_over_v0: F
+    damping_ratio: F
+
+    def as_dict(self) -> dict[str, list[float]]:
+        """JSON-ready mapping."""
+        return {k: np.asarray(v).tolist() for k, v in self.__dict__.items()}
+
+
+def viscous_1d(N_h: ArrayLike, m: float = 3.015, b1: float = 0.5) -> ViscousDispersion:
+    """Complex phase velocity of 1-D PD with the linear bond viscosity of seed 003.
+
+    With gamma = b1 delta / (4 v0) (the rate constant equivalent to f_1 = b1 alpha_p zeta,
+    see :mod:`peridynamics.materials.viscosity`) eq. 41 has the root (eq. 42)
+    v' = -i gamma M / (2 rho kappa) + sqrt(M / (rho kappa^2) - (gamma M / (2 rho kappa))^2),
+    i.e. v_i / v0 = -(b1 pi N_h m / 4) (v/v0)^2 and |v_i / v| = (b1 / 4) sqrt(S) with
+    S = sum_j (1 - cos 2 pi N_h j) / j (eq. 44): periodic in N_h like omega, so the damping
+    is not selective (seed 003 Fig. 7). Where |v_i| exceeds v the wave is overdamped and
+    the real part is 0.
+    """
+    if not (np.isfinite(b1) and b1 >= 0):
+        raise ValueError(f"b1 must be a finite number >= 0, got {b1}")
+    d = semi_discrete_1d(N_h, m)
+    nh, v = d.N_h, d.v_over_v0
+    vi = -(b1 * np.pi * nh * m / 4.0) * v**2
+    vr = np.sqrt(np.maximum(v**2 - vi**2, 0.0))
+    j = np.arange(1, neighbours_1d(m) + 1)
+    S = np.sum(_one_minus_cos(2.0 * np.pi * np.multiply.outer(nh, j)) / j, axis=-1)
+    return ViscousDispersion(nh, vr, vi, b1 / 4.0 * np.sqrt(S))

@@ -239,6 +239,13 @@ class Discretisation(Strict):
 
 
 # -------------------------------------------------------------------------- material
+class Viscosity(Strict):
+    """Viscous bond forces of seed 003 (eqs 53-56): b1 (linear), b2 (quadratic)."""
+
+    linear: NonNegFloat = 0.0
+    quadratic: NonNegFloat = 0.0
+
+
 class Material(Strict):
     """Bond-based PMB material."""
 
@@ -247,6 +254,7 @@ class Material(Strict):
     density: PosFloat
     poisson_ratio: Annotated[float, Field(gt=-1.0, lt=0.5, allow_inf_nan=False), _Num] | None = None
     micromodulus_profile: Literal["constant", "conical"] = "constant"
+    viscosity: Viscosity | None = None
 
 
 class Damage(Strict):
@@ -327,8 +335,33 @@ class TriangularPulseTF(Strict):
         return self
 
 
+class SinePulseTF(Strict):
+    """One sine period: sin(2 pi t / duration) for 0 <= t <= duration, then 0."""
+
+    type: Literal["sine_pulse"]
+    duration: PosFloat
+
+
+class SquarePulseTF(Strict):
+    """1 for 0 <= t <= duration, then 0."""
+
+    type: Literal["square_pulse"]
+    duration: PosFloat
+
+
+class BlastTF(Strict):
+    """Reflected blast pressure (Pa) of a TNT charge (Kingery-Bulmash, UFC 3-340-02)."""
+
+    type: Literal["blast"]
+    charge_kg: PosFloat
+    standoff_m: PosFloat
+    shape: Literal["triangular", "friedlander"] = "triangular"
+    delay: NonNegFloat = 0.0
+
+
 TimeFunctionSpec = Annotated[
-    ConstantTF | RampTF | TableTF | TriangularPulseTF, Field(discriminator="type")
+    ConstantTF | RampTF | TableTF | TriangularPulseTF | SinePulseTF | SquarePulseTF | BlastTF,
+    Field(discriminator="type"),
 ]
 
 
@@ -386,13 +419,33 @@ class TractionBC(_OnSet):
 
 
 class PressureBC(_OnSet):
-    """Pressure p (Pa, > 0 pushes against the outward ``normal``), as a layer body force."""
+    """Pressure p (Pa, > 0 pushes against the outward ``normal``), as a layer body force.
+
+    Give either ``normal`` (a flat face) or ``center`` (a cavity: the pressure pushes every
+    node radially away from the centre). With a ``blast`` time function (which gives Pa)
+    ``value`` is a dimensionless multiplier, 1 by default.
+    """
 
     type: Literal["pressure"]
-    value: Finite
-    normal: list[Finite]
+    value: Finite | None = None
+    normal: list[Finite] | None = None
+    center: list[Finite] | None = None
     layer_thickness: PosFloat | None = None
     time_function: TimeFunctionSpec = ConstantTF(type="constant")
+
+    @model_validator(mode="after")
+    def _direction_and_value(self) -> PressureBC:
+        if (self.normal is None) == (self.center is None):
+            raise ValueError(
+                "[normal] give exactly one of normal (a flat face) or center (a cavity)"
+            )
+        if self.value is None:
+            if not isinstance(self.time_function, BlastTF):
+                raise ValueError(
+                    "[value] the pressure (Pa) is required unless the time function is a blast"
+                )
+            self.value = 1.0
+        return self
 
 
 BoundaryCondition = Annotated[
@@ -499,6 +552,24 @@ class Fracture(Strict):
     stop: bool = False
 
 
+class WaveComparison(Strict):
+    """Compare the final 1-D displacement profile with the exact d'Alembert pulse
+    u_in(t - (x - source_position) / sqrt(E / rho)), u_in = amplitude x shape(t)."""
+
+    shape: Literal["sine", "square"]
+    amplitude: PosFloat
+    duration: PosFloat
+    source_position: Finite = 0.0
+    tail_margin: NonNegFloat = 0.0  # m: trailing region ends this far behind the pulse
+
+
+class Period(Strict):
+    """Dominant period of a probe history (autocorrelation) -> results.period_s."""
+
+    probe: str
+    min_period: NonNegFloat = 0.0
+
+
 class Output(Strict):
     """What to write."""
 
@@ -513,6 +584,8 @@ class Output(Strict):
     probes: list[Probe] = []
     crack_tip: CrackTip | None = None
     fracture: Fracture | None = None
+    wave_comparison: WaveComparison | None = None
+    period: Period | None = None
     plot: Literal["auto", "damage", "probes", "none"] = "auto"
 
 
@@ -663,7 +736,7 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
                 errors.append(
                     (f"{path}.components.{comp}", f"component {comp!r} does not exist in {dim}-D")
                 )
-        for key in ("value", "normal"):
+        for key in ("value", "normal", "center"):
             vec = getattr(bc, key, None)
             if isinstance(vec, list):
                 _check_len(errors, f"{path}.{key}", vec, dim)
@@ -693,6 +766,16 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
                 make_crack(crack.points)
             except ValueError as exc:
                 errors.append((f"precracks.{n}.points", str(exc)))
+    probe_names = {p.name for p in deck.output.probes}
+    if deck.output.period is not None and deck.output.period.probe not in probe_names:
+        errors.append(
+            (
+                "output.period.probe",
+                f"unknown probe {deck.output.period.probe!r}; known: {sorted(probe_names)}",
+            )
+        )
+    if deck.output.wave_comparison is not None and deck.dim != 1:
+        errors.append(("output.wave_comparison", "the d'Alembert comparison is 1-D"))
     if deck.dim != 1:
         if deck.solver.method == "fdm" or deck.solver.hybrid is not None:
             errors.append(("solver.method", "finite differences and hybrids are 1-D"))

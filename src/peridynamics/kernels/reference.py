@@ -81,3 +81,27 @@ def fdm_force_1d(u: F, coef: float, inv_dx: float) -> tuple[F, F]:
     ms[:-1] = strain
     ms[1:] = np.maximum(ms[1:], strain)
     return (coef * f)[:, None], np.maximum(ms, 0.0)
+
+
+def viscous_force(
+    x: F,
+    u: F,
+    v: F,
+    bond_i: NDArray,
+    bond_j: NDArray,
+    length: F,
+    weight: F,
+    intact: NDArray,
+    lin: float,
+    quad: float,
+) -> F:
+    """NumPy twin of :func:`peridynamics.kernels.viscous.add_viscous_force` (returns the
+    viscous force density alone, shape (n, dim))."""
+    e = bond_vectors(x, u, bond_i, bond_j)
+    r = np.linalg.norm(e, axis=1)
+    n = e / r[:, None]
+    zeta = np.sum((v[bond_j] - v[bond_i]) * n, axis=1) / length
+    f = weight * intact * (lin * zeta + quad * zeta * np.abs(zeta))
+    out = np.zeros_like(x)
+    np.add.at(out, bond_i, f[:, None] * n)
+    return out

@@ -97,16 +97,20 @@ class InitialVelocity:
 
 @dataclass(frozen=True)
 class BodyForce:
-    """b(t) = value * f(t) on ``nodes`` (N/m^3)."""
+    """b(t) = value * f(t) on ``nodes`` (N/m^3); ``value`` is one vector (dim,) for every
+    node or one per node (len(nodes), dim)."""
 
     nodes: NDArray[np.intp]
-    value: tuple[float, ...]
+    value: tuple[float, ...] | NDArray[np.float64]
     function: TimeFunction = field(default_factory=Constant)
 
     def add_to(self, b: NDArray, t: float) -> None:
         val = np.asarray(self.value, dtype=float)
-        if val.shape != (b.shape[1],):
-            raise ValueError(f"body force needs {b.shape[1]} components, got {len(val)}")
+        if val.shape not in ((b.shape[1],), (len(self.nodes), b.shape[1])):
+            raise ValueError(
+                f"body force needs {b.shape[1]} components (one vector, or one per node), "
+                f"got shape {val.shape}"
+            )
         b[self.nodes] += val * self.function(t)
 
 
@@ -143,6 +147,35 @@ def traction_as_body_force(
     return BodyForce(
         nodes=nodes, value=tuple(traction / layer_thickness), function=function or Constant()
     )
+
+
+def cavity_pressure_as_body_force(
+    nodes: NDArray[np.intp],
+    pressure: float,
+    x: NDArray[np.float64],
+    center: NDArray[np.float64],
+    spacing: float,
+    layer_thickness: float | None = None,
+    function: TimeFunction | None = None,
+) -> BodyForce:
+    """A pressure p (Pa) on the wall of a cavity around ``center``, as a radial body force
+    p / l pushing each node of the layer away from the centre.
+
+    ``l`` is ``layer_thickness`` if given, else the radial extent of the node set plus one
+    spacing (the rule of :func:`traction_as_body_force` with the radius as the normal
+    coordinate), so the total force is p x wall area for grid layers. In 1-D the "cavity"
+    is the two-sided push away from ``center``.
+    """
+    rel = x[nodes] - np.asarray(center, dtype=float)
+    r = np.linalg.norm(rel, axis=1)
+    if np.any(r == 0):
+        raise ValueError("cavity pressure: a loaded node sits on the centre; move the centre")
+    if layer_thickness is None:
+        layer_thickness = float(np.ptp(r)) + spacing
+    if not layer_thickness > 0:
+        raise ValueError("pressure layer_thickness must be > 0 m")
+    value = (pressure / layer_thickness) * rel / r[:, None]
+    return BodyForce(nodes=nodes, value=value, function=function or Constant())
 
 
 Kinematic = PrescribedDisplacement | PrescribedVelocity | Fixed

@@ -80,9 +80,42 @@ class TriangularPulse(TimeFunction):
         return float(self.peak * (self.duration - t) / (self.duration - self.rise_time))
 
 
+@dataclass(frozen=True)
+class SinePulse(TimeFunction):
+    """One period of a sine: f(t) = sin(2 pi t / duration) for 0 <= t <= duration, else 0
+    (seed 003 section 4.5.1 input wave, SPEC.md)."""
+
+    duration: float
+
+    def __post_init__(self) -> None:
+        if not self.duration > 0:
+            raise ValueError("sine pulse needs duration > 0 (s)")
+
+    def __call__(self, t: float) -> float:
+        if t < 0 or t > self.duration:
+            return 0.0
+        return float(np.sin(2.0 * np.pi * t / self.duration))
+
+
+@dataclass(frozen=True)
+class SquarePulse(TimeFunction):
+    """f(t) = 1 for 0 <= t <= duration, else 0 (seed 003 section 4.5.1 square wave)."""
+
+    duration: float
+
+    def __post_init__(self) -> None:
+        if not self.duration > 0:
+            raise ValueError("square pulse needs duration > 0 (s)")
+
+    def __call__(self, t: float) -> float:
+        return 1.0 if 0 <= t <= self.duration else 0.0
+
+
 TIME_FUNCTIONS = {
     "constant": Constant,
     "ramp": Ramp,
     "table": Table,
     "triangular_pulse": TriangularPulse,
+    "sine_pulse": SinePulse,
+    "square_pulse": SquarePulse,
 }

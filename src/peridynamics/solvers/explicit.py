@@ -134,7 +134,7 @@ class ExplicitSolver:
         for iv in self.initial_velocities:
             iv.apply_initial(s.v)
         self._apply_constraints(s, 0.0)
-        s.bonds_broken += m.internal_force(s.u, s.intact, s.force, s.max_stretch)
+        s.bonds_broken += m.internal_force(s.u, s.intact, s.force, s.max_stretch, s.v)
         m.external_force(0.0, s.body)
         if self.integrator == "central_difference":
             # u(-dt) from a Taylor step so that u(dt) = u0 + dt v0 + dt^2/2 a0
@@ -179,7 +179,7 @@ class ExplicitSolver:
             integrators.central_difference(s.u, s.u_prev, s.v, s.force, s.body, self._inv_rho, dt)
         for c in self.constraints:  # positions at t + dt
             c.apply(s.u, s.v, t_new, dt)
-        s.bonds_broken += m.internal_force(s.u, s.intact, s.force, s.max_stretch)
+        s.bonds_broken += m.internal_force(s.u, s.intact, s.force, s.max_stretch, s.v)
         m.external_force(t_new, s.body)
         if self.integrator == "velocity_verlet":
             integrators.kick(s.v, s.force, s.body, self._inv_rho, dt)

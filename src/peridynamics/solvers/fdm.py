@@ -46,7 +46,12 @@ class FDMModel1D(Model):
         self._inv_dx = 1.0 / cloud.spacing
 
     def internal_force(
-        self, u: NDArray, intact: NDArray[np.uint8], force: NDArray, max_stretch: NDArray
+        self,
+        u: NDArray,
+        intact: NDArray[np.uint8],
+        force: NDArray,
+        max_stretch: NDArray,
+        v: NDArray | None = None,
     ) -> int:
         """Fill ``force`` (n, 1) with E u_xx (N/m^3) and ``max_stretch`` with the largest
         tensile Delta u / dx to a neighbour (Numba kernel

@@ -109,7 +109,7 @@ class HybridSolver:
     def _switch(self, s: State) -> None:
         """Hand over: forces of the second model at the same u (its bonds intact)."""
         m = self.second.model
-        s.bonds_broken += m.internal_force(s.u, s.intact, s.force, s.max_stretch)
+        s.bonds_broken += m.internal_force(s.u, s.intact, s.force, s.max_stretch, s.v)
         m.external_force(s.t, s.body)
         s.phase = 1
         self.switch_time = s.t
