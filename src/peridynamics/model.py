@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -16,8 +17,10 @@ from numpy.typing import NDArray
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.bonds.surface import energy_correction_factors
 from peridynamics.damage.critical_stretch import NO_DAMAGE, CriticalStretch, family_minimum
+from peridynamics.damage.sed import SEDSoftening
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import bond_based
+from peridynamics.kernels.sed import sed_update
 from peridynamics.kernels.viscous import add_viscous_force
 from peridynamics.loading.conditions import BodyForce
 from peridynamics.materials.bond_based import BondBasedMaterial
@@ -46,6 +49,14 @@ class Model:
     viscosity : BondViscosity, optional
         Viscous bond forces (seed 003 eqs 52-56) evaluated from the velocity passed to
         :meth:`internal_force`; ``None`` or both coefficients 0 is plain PD.
+    softening : SEDSoftening, optional
+        Strain-energy-density softening of the point moduli (seed 001 eqs 18-24),
+        updated at every force evaluation before the bond forces.
+    contact : object with ``add_force(u, intact, force)``, optional
+        Short-range contact between points not joined by an intact bond.
+    damping : float
+        Mass-proportional damping coefficient c_d (1/s): adds -rho c_d v to the force
+        density (local damping for quasi-static runs by explicit dynamics).
     """
 
     cloud: PointCloud
@@ -55,6 +66,9 @@ class Model:
     body_forces: Sequence[BodyForce] = ()
     surface_correction: bool = False
     viscosity: BondViscosity | None = None
+    softening: SEDSoftening | None = None
+    contact: Any = None
+    damping: float = 0.0
     stiffness: NDArray[np.float64] = field(init=False, repr=False)
     point_s0: NDArray[np.float64] = field(init=False, repr=False)
     family_s0_min: NDArray[np.float64] = field(init=False, repr=False)
@@ -77,6 +91,17 @@ class Model:
         self.family_s0_min = family_minimum(self.bonds, self.point_s0)
         self.density = np.full(c.n_points, self.material.density)
         self._force_kernel = bond_based.FORCE_KERNELS[c.dim]
+        if not (np.isfinite(self.damping) and self.damping >= 0):
+            raise ValueError(f"damping must be >= 0 (1/s), got {self.damping}")
+        if self.softening is not None:
+            self._stiffness0 = self.stiffness.copy()
+            self.stiffness = self.stiffness.copy()
+            self._w_a, self._w_c = self.softening.thresholds(
+                self.material.youngs_modulus, self.point_s0
+            )
+            self.sed_level = np.zeros(c.n_points, dtype=np.int64)
+            self.sed_factor = np.ones(c.n_points)
+            self.sed_energy = np.zeros(c.n_points)
         self._viscous: tuple[float, float] | None = None
         if self.viscosity is not None and self.viscosity.active:
             self._viscous = self.viscosity.coefficients(
@@ -113,6 +138,12 @@ class Model:
         has viscosity; ignored otherwise). Returns the number of directed bonds broken.
         """
         b = self.bonds
+        if self.softening is not None:
+            sed_update(
+                self.cloud.x, u, b.offsets, b.bond_j, b.bond_length, self._stiffness0, intact,
+                self._w_a, self._w_c, self.softening.levels, self.softening.residual,
+                self.sed_level, self.sed_factor, self.sed_energy, self.stiffness,
+            )  # fmt: skip
         broken = int(
             self._force_kernel(
                 self.cloud.x,
@@ -129,6 +160,10 @@ class Model:
                 self._broken_scratch,
             )
         )
+        if self.contact is not None:
+            self.contact.add_force(u, intact, force)
+        if self.damping > 0 and v is not None:
+            force -= (self.damping * self.density)[:, None] * v
         if self._viscous is not None:
             if v is None:
                 raise ValueError("a model with viscosity needs the velocity v in internal_force")
@@ -200,6 +235,26 @@ class Model:
         # force on the left point i from j (N): stiffness (1/L - 1/r) e mu V_i
         f = self.stiffness[k] * (self.inv_length[k] - 1.0 / r) * e * intact[k]
         return float(np.sum(f * self.cloud.volume[i]) / self.cloud.cross_section)
+
+    def point_stress(self, u: NDArray, intact: NDArray[np.uint8]) -> NDArray:
+        """Peridynamic (virial) stress of each point, shape (n, dim, dim) (Pa):
+        sigma_i = 1/2 sum_k f_k (xi_k + eta_k) (x) xi_k, with f_k the elastic bond force
+        density of bond k times V_j (Lehoucq & Silling 2008, the bond-based form used for
+        stress maps; viscous forces are not included). For a uniform strain it equals the
+        continuum stress of the model in the bulk. Not used in the time loop (NumPy)."""
+        b = self.bonds
+        xi = b.bond_xi
+        e = xi + (u[b.bond_j] - u[b.bond_i])
+        r = np.linalg.norm(e, axis=1)
+        g = self.stiffness * intact * (self.inv_length - 1.0 / r)  # c V s / r
+        pair = 0.5 * g[:, None, None] * e[:, :, None] * xi[:, None, :]
+        out = np.zeros((self.n_points, self.dim, self.dim))
+        np.add.at(out, b.bond_i, pair)
+        return out
+
+    def pressure(self, u: NDArray, intact: NDArray[np.uint8]) -> NDArray:
+        """Mean compressive stress -tr(sigma) / dim of each point, shape (n,) (Pa)."""
+        return -np.trace(self.point_stress(u, intact), axis1=1, axis2=2) / self.dim
 
     def stable_time_step(self) -> float:
         """Largest stable explicit step, min over points of Silling & Askari's bound (s).

@@ -23,7 +23,7 @@ from peridynamics.analysis.crack import branching, crack_tip, tip_speed
 from peridynamics.analysis.waves import dalembert, dominant_period, wave_errors
 from peridynamics.bonds import build_bonds, make_crack
 from peridynamics.bonds.bonds import Bonds
-from peridynamics.damage import NO_DAMAGE, CriticalStretch
+from peridynamics.damage import NO_DAMAGE, CriticalStretch, SEDSoftening, WeibullField
 from peridynamics.geometry import PointCloud, bar, box, cylinder, from_mesh, rectangle
 from peridynamics.io import deck as dk
 from peridynamics.io.checkpoint import read_checkpoint, write_checkpoint
@@ -229,14 +229,15 @@ def build_conditions(deck: dk.Deck, cloud: PointCloud) -> tuple[list, list, list
         elif isinstance(spec, dk.BodyForceBC):
             body.append(bc.BodyForce(nodes, tuple(spec.value), time_function(spec.time_function)))
         elif isinstance(spec, dk.PressureBC) and spec.center is not None:
-            assert spec.value is not None
             body.append(
                 bc.cavity_pressure_as_body_force(
                     nodes,
-                    spec.value,
+                    spec.scale,
                     cloud.x,
+                    cloud.volume,
                     np.asarray(spec.center, dtype=float),
                     cloud.spacing,
+                    thickness=cloud.cross_section,
                     layer_thickness=spec.layer_thickness,
                     function=time_function(spec.time_function),
                 )
@@ -244,9 +245,9 @@ def build_conditions(deck: dk.Deck, cloud: PointCloud) -> tuple[list, list, list
         else:  # traction or pressure on a flat face
             normal: NDArray[np.float64] | None
             if isinstance(spec, dk.PressureBC):
-                assert spec.value is not None and spec.normal is not None
+                assert spec.normal is not None
                 n = np.asarray(spec.normal, dtype=float)
-                traction = -spec.value * n / np.linalg.norm(n)
+                traction = -spec.scale * n / np.linalg.norm(n)
                 normal = n
             else:
                 traction = np.asarray(spec.value, dtype=float)
@@ -294,7 +295,29 @@ def build_model(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, body: list) -> M
             if dmg.no_fail
             else None
         )
-        damage = CriticalStretch(s0, no_fail)
+        w = dmg.weibull
+        weibull = None if w is None else WeibullField(w.shape, w.seed, w.variable, w.u0_is)
+        damage = CriticalStretch(s0, no_fail, weibull)
+    sed = dmg.sed_softening
+    softening = (
+        None
+        if sed is None
+        else SEDSoftening(sed.levels, sed.k_c, sed.residual, sed.threshold_stretch)
+    )
+    contact = None
+    if deck.contact is not None:
+        from peridynamics.contact import ShortRangeContact
+
+        c0 = material.micromodulus_constant(
+            cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
+        )
+        contact = ShortRangeContact(
+            cloud.x,
+            cloud.volume,
+            bonds,
+            contact_distance=deck.contact.distance_factor * cloud.spacing,
+            stiffness=deck.contact.stiffness_factor * c0,
+        )
     return Model(
         cloud,
         bonds,
@@ -305,6 +328,9 @@ def build_model(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, body: list) -> M
         viscosity=None
         if m.viscosity is None
         else BondViscosity(m.viscosity.linear, m.viscosity.quadratic),
+        softening=softening,
+        contact=contact,
+        damping=deck.solver.damping,
     )
 
 
@@ -327,6 +353,8 @@ class Recorder:
                 "probes": {p.name: [] for p in self.deck.output.probes},
                 "crack_tip_m": [],
                 "vtk_frames": [],
+                "stress_Pa": [],
+                "strain": [],
             }
         self._pre_damaged: NDArray[np.bool_] | None = None
         ct = self.deck.output.crack_tip
@@ -396,6 +424,16 @@ class Recorder:
         r["max_damage"].append(float(damage.max()))
         for p in self.deck.output.probes:
             r["probes"][p.name].append(self.probe_value(p, s, damage))
+        ss = self.deck.output.stress_strain
+        if ss is not None:
+            nodes = m.cloud.node_set(ss.set)
+            d = np.asarray(ss.direction, dtype=float)
+            d /= np.linalg.norm(d)
+            push = (s.force[nodes] * m.cloud.volume[nodes, None]).sum(axis=0)
+            r.setdefault("stress_Pa", []).append(float(-np.sum(push * d) / ss.area))
+            r.setdefault("strain", []).append(
+                float(np.sum(s.u[nodes].mean(axis=0) * d) / ss.length)
+            )
         if self._tip is not None:
             origin, direction, thr = self._tip
             if self._pre_damaged is None:  # points a pre-crack damages at t = 0
@@ -620,6 +658,19 @@ class Simulation:
                 "peak_time_s": float(t[k]) if len(v) else None,
                 "arrival_time_s": float(t[arrived[0]]) if arrived.size else None,
             }
+        results["damaged_area_fraction"] = float(np.mean(damage >= 0.3))
+        ke = np.asarray(r["kinetic_energy_J"])
+        se = np.asarray(r["strain_energy_J"])
+        late = slice(len(ke) // 10, None)  # after the start-up transient
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.where(se[late] > 0, ke[late] / se[late], 0.0)
+        results["max_kinetic_to_strain_energy"] = float(ratio.max()) if ratio.size else 0.0
+        if self.deck.output.stress_strain is not None and r.get("stress_Pa"):
+            stress = np.asarray(r["stress_Pa"])
+            k = int(np.argmax(stress))
+            results["peak_stress_Pa"] = float(stress[k])
+            results["strain_at_peak"] = float(r["strain"][k])
+            results["stress_strain"] = {"strain": r["strain"], "stress_Pa": r["stress_Pa"]}
         if isinstance(self.solver, HybridSolver):
             results["switch_time_s"] = r.get("switch_time_s")
             results["switched"] = s.phase == 1
@@ -677,9 +728,12 @@ class Simulation:
         if o.period is not None:
             pr = results["probes"][o.period.probe]
             try:
-                results["period_s"] = dominant_period(
-                    pr["time_s"], pr["values"], o.period.min_period
-                )
+                values = np.asarray(pr["values"])
+                if o.period.of == "magnitude":
+                    values = np.abs(values)
+                elif o.period.of == "rate":
+                    values = np.abs(np.gradient(values, np.asarray(pr["time_s"])))
+                results["period_s"] = dominant_period(pr["time_s"], values, o.period.min_period)
             except ValueError as exc:
                 results["period_s"] = None
                 results["period_error"] = str(exc)

@@ -13,6 +13,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds
+from peridynamics.damage.weibull import WeibullField
 
 
 @dataclass(frozen=True)
@@ -25,10 +26,13 @@ class CriticalStretch:
         s0 (dimensionless, > 0), ``inf`` disables breaking.
     no_fail : (k,) int array, optional
         Points whose bonds never break (any bond touching them is kept).
+    weibull : WeibullField, optional
+        Per-point heterogeneity: s0_i = s0 x factor_i (seed 001 eqs 25-26).
     """
 
     critical_stretch: float
     no_fail: NDArray[np.intp] | None = None
+    weibull: WeibullField | None = None
 
     def __post_init__(self) -> None:
         if not self.critical_stretch > 0 or math.isnan(self.critical_stretch):
@@ -37,6 +41,8 @@ class CriticalStretch:
     def point_threshold(self, n_points: int) -> NDArray[np.float64]:
         """Per-point s0, shape (n_points,), inf on no-fail points."""
         s0 = np.full(n_points, float(self.critical_stretch))
+        if self.weibull is not None:
+            s0 = s0 * self.weibull.stretch_factors(n_points)
         if self.no_fail is not None and len(self.no_fail):
             s0[np.asarray(self.no_fail)] = np.inf
         return s0

@@ -257,6 +257,24 @@ class Material(Strict):
     viscosity: Viscosity | None = None
 
 
+class WeibullSpec(Strict):
+    """Weibull heterogeneity of the critical stretch (seed 001 eqs 25-26)."""
+
+    shape: PosFloat
+    seed: Annotated[int, Field(ge=0), _Num] = 0
+    variable: Literal["fracture_energy", "critical_stretch"] = "fracture_energy"
+    u0_is: Literal["scale", "mean"] = "scale"
+
+
+class SEDSofteningSpec(Strict):
+    """Strain-energy-density softening (seed 001 eqs 18-24)."""
+
+    levels: Annotated[int, Field(ge=1, le=1000), _Num] = 10
+    k_c: Annotated[float, Field(gt=1, allow_inf_nan=False), _Num] = 4.0
+    residual: Annotated[float, Field(gt=0, le=1, allow_inf_nan=False), _Num] = 0.05
+    threshold_stretch: PosFloat | None = None
+
+
 class Damage(Strict):
     """Bond breaking."""
 
@@ -264,6 +282,8 @@ class Damage(Strict):
     critical_stretch: PosFloat | None = None
     fracture_energy: PosFloat | None = None
     no_fail: list[str] = []
+    weibull: WeibullSpec | None = None
+    sed_softening: SEDSofteningSpec | None = None
 
     @model_validator(mode="after")
     def _one(self) -> Damage:
@@ -272,6 +292,8 @@ class Damage(Strict):
                 raise ValueError(
                     "[model] model 'none' takes neither critical_stretch nor fracture_energy"
                 )
+            if self.weibull is not None or self.sed_softening is not None:
+                raise ValueError("[model] weibull and sed_softening need model 'critical_stretch'")
         elif (self.critical_stretch is None) == (self.fracture_energy is None):
             raise ValueError(
                 "[critical_stretch] give exactly one of critical_stretch (s0) "
@@ -439,13 +461,16 @@ class PressureBC(_OnSet):
             raise ValueError(
                 "[normal] give exactly one of normal (a flat face) or center (a cavity)"
             )
-        if self.value is None:
-            if not isinstance(self.time_function, BlastTF):
-                raise ValueError(
-                    "[value] the pressure (Pa) is required unless the time function is a blast"
-                )
-            self.value = 1.0
+        if self.value is None and not isinstance(self.time_function, BlastTF):
+            raise ValueError(
+                "[value] the pressure (Pa) is required unless the time function is a blast"
+            )
         return self
+
+    @property
+    def scale(self) -> float:
+        """The pressure value, or 1 (a multiplier of the blast pressure) when omitted."""
+        return 1.0 if self.value is None else self.value
 
 
 BoundaryCondition = Annotated[
@@ -491,6 +516,7 @@ class Solver(Strict):
     blowup_factor: PosFloat = 1.0
     max_stretch: PosFloat = 1.0
     check_every: Annotated[int, Field(gt=0), _Num] = 10
+    damping: NonNegFloat = 0.0  # mass-proportional damping coefficient (1/s)
 
     @model_validator(mode="after")
     def _length(self) -> Solver:
@@ -563,11 +589,25 @@ class WaveComparison(Strict):
     tail_margin: NonNegFloat = 0.0  # m: trailing region ends this far behind the pulse
 
 
+class StressStrain(Strict):
+    """Nominal stress-strain curve of a loading platen (node set ``set``):
+    strain = mean(u) . direction / length, stress = -(sum_i V_i f_i) . direction / area
+    (both positive while the platen loads the body along ``direction``)."""
+
+    set: str
+    direction: list[Finite]
+    area: PosFloat
+    length: PosFloat
+
+
 class Period(Strict):
-    """Dominant period of a probe history (autocorrelation) -> results.period_s."""
+    """Dominant period of a probe history (autocorrelation) -> results.period_s. ``of``:
+    the value itself, its magnitude, or ``rate``, |d value / dt| (a train of wave fronts,
+    whatever their sign and however long the load lasts)."""
 
     probe: str
     min_period: NonNegFloat = 0.0
+    of: Literal["value", "magnitude", "rate"] = "value"
 
 
 class Output(Strict):
@@ -586,7 +626,15 @@ class Output(Strict):
     fracture: Fracture | None = None
     wave_comparison: WaveComparison | None = None
     period: Period | None = None
+    stress_strain: StressStrain | None = None
     plot: Literal["auto", "damage", "probes", "none"] = "auto"
+
+
+class Contact(Strict):
+    """Short-range repulsion between points not joined by an intact bond."""
+
+    distance_factor: Annotated[float, Field(gt=0, le=2, allow_inf_nan=False), _Num] = 0.9
+    stiffness_factor: PosFloat = 15.0
 
 
 class Deck(Strict):
@@ -600,6 +648,7 @@ class Deck(Strict):
     damage: Damage = Damage(model="none")
     node_sets: dict[str, RegionSpec] = {}
     precracks: list[Precrack] = []
+    contact: Contact | None = None
     boundary_conditions: list[BoundaryCondition] = []
     solver: Solver
     output: Output = Output()
@@ -774,6 +823,12 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
                 f"unknown probe {deck.output.period.probe!r}; known: {sorted(probe_names)}",
             )
         )
+    ss = deck.output.stress_strain
+    if ss is not None:
+        if ss.set not in sets:
+            errors.append(("output.stress_strain.set", f"unknown node set {ss.set!r}"))
+        _check_len(errors, "output.stress_strain.direction", ss.direction, dim)
+        _check_nonzero(errors, "output.stress_strain.direction", ss.direction)
     if deck.output.wave_comparison is not None and deck.dim != 1:
         errors.append(("output.wave_comparison", "the d'Alembert comparison is 1-D"))
     if deck.dim != 1:

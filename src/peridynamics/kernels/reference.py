@@ -105,3 +105,32 @@ def viscous_force(
     out = np.zeros_like(x)
     np.add.at(out, bond_i, f[:, None] * n)
     return out
+
+
+def sed_update(
+    x: F,
+    u: F,
+    bond_i: NDArray,
+    bond_j: NDArray,
+    length: F,
+    stiffness0: F,
+    intact: NDArray,
+    w_a: F,
+    w_c: F,
+    n_levels: int,
+    residual: float,
+    level: NDArray,
+) -> tuple[F, NDArray, F, F]:
+    """NumPy twin of :func:`peridynamics.kernels.sed.sed_update`: returns (energy (n,),
+    new level (n,), factor (n,), stiffness (n_bonds,))."""
+    s = stretch(x, u, bond_i, bond_j, length)
+    energy = np.zeros(len(x))
+    np.add.at(energy, bond_i, 0.25 * stiffness0 * intact * s**2 * length)
+    band = np.floor(n_levels * (energy - w_a) / (w_c - w_a)).astype(np.int64)
+    new = np.where(
+        energy < w_a, 0, np.where(energy < w_c, np.minimum(1 + band, n_levels), n_levels + 1)
+    )
+    lev = np.maximum(level, new)
+    factor = np.where(lev == 0, 1.0, (n_levels + 1 - lev) / n_levels)
+    factor = np.where(lev == n_levels + 1, residual, factor)
+    return energy, lev, factor, stiffness0 * 0.5 * (factor[bond_i] + factor[bond_j])

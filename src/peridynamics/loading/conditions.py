@@ -153,25 +153,34 @@ def cavity_pressure_as_body_force(
     nodes: NDArray[np.intp],
     pressure: float,
     x: NDArray[np.float64],
+    volume: NDArray[np.float64],
     center: NDArray[np.float64],
     spacing: float,
+    thickness: float = 1.0,
     layer_thickness: float | None = None,
     function: TimeFunction | None = None,
 ) -> BodyForce:
-    """A pressure p (Pa) on the wall of a cavity around ``center``, as a radial body force
-    p / l pushing each node of the layer away from the centre.
+    """A pressure p (Pa) on the wall of a cavity around ``center`` (a circular hole in
+    2-D, a spherical one in 3-D), as a radial body force p / l pushing each node of the
+    layer away from the centre.
 
-    ``l`` is ``layer_thickness`` if given, else the radial extent of the node set plus one
-    spacing (the rule of :func:`traction_as_body_force` with the radius as the normal
-    coordinate), so the total force is p x wall area for grid layers. In 1-D the "cavity"
-    is the two-sided push away from ``center``.
+    Without ``layer_thickness`` the body force is scaled so that the total radial force
+    is p times the wall area: l = sum(V_layer) / A_wall with the wall radius R taken as
+    the distance of the closest layer node (A_wall = 2 pi R ``thickness`` in 2-D,
+    4 pi R^2 in 3-D). In 1-D the two-sided push uses l = extent of the set + spacing.
     """
     rel = x[nodes] - np.asarray(center, dtype=float)
     r = np.linalg.norm(rel, axis=1)
     if np.any(r == 0):
         raise ValueError("cavity pressure: a loaded node sits on the centre; move the centre")
     if layer_thickness is None:
-        layer_thickness = float(np.ptp(r)) + spacing
+        dim = x.shape[1]
+        radius = float(r.min())
+        if dim == 1:
+            layer_thickness = float(np.ptp(r)) + spacing
+        else:
+            wall = 2 * np.pi * radius * thickness if dim == 2 else 4 * np.pi * radius**2
+            layer_thickness = float(np.sum(volume[nodes])) / wall
     if not layer_thickness > 0:
         raise ValueError("pressure layer_thickness must be > 0 m")
     value = (pressure / layer_thickness) * rel / r[:, None]

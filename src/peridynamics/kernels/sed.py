@@ -1,0 +1,58 @@
+"""Strain-energy-density softening kernel (seed 001 eqs 18-24). NumPy twin:
+:func:`peridynamics.kernels.reference.sed_update`."""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange
+
+
+@njit(parallel=True, fastmath=False, cache=True)
+def sed_update(
+    x, u, offsets, bond_j, length, stiffness0, intact, w_a, w_c, n_levels, residual,
+    level, factor, energy, stiffness,
+):  # pragma: no cover - compiled  # fmt: skip
+    """Update the softening level of every point and, if any changed, the bond stiffness.
+
+    energy[i] = 1/4 sum_k stiffness0_k mu_k s_k^2 |xi_k| (J/m^3, eq. 22, initial moduli);
+    new level 0 below w_a[i], 1 + floor(N (W - w_a) / (w_c - w_a)) (at most N) in
+    [w_a, w_c), N + 1 at or above w_c; level[i] = max(old, new) (irreversible);
+    factor[i] = 1, (N + 1 - n) / N, residual for levels 0, n = 1..N, N + 1;
+    stiffness_k = stiffness0_k (factor_i + factor_j) / 2 (eq. 24).
+    Returns the number of points whose level rose.
+    """
+    n, d = x.shape
+    changed = 0
+    for i in prange(n):
+        w = 0.0
+        for k in range(offsets[i], offsets[i + 1]):
+            if intact[k] == 0:
+                continue
+            j = bond_j[k]
+            r2 = 0.0
+            for c in range(d):
+                e = (x[j, c] - x[i, c]) + (u[j, c] - u[i, c])
+                r2 += e * e
+            s = np.sqrt(r2) / length[k] - 1.0
+            w += stiffness0[k] * s * s * length[k]
+        w *= 0.25
+        energy[i] = w
+        if w < w_a[i]:
+            new = 0
+        elif w < w_c[i]:
+            new = 1 + int(np.floor(n_levels * (w - w_a[i]) / (w_c[i] - w_a[i])))
+            new = min(new, n_levels)
+        else:
+            new = n_levels + 1
+        if new > level[i]:
+            level[i] = new
+            changed += 1
+            if new == n_levels + 1:
+                factor[i] = residual
+            else:
+                factor[i] = (n_levels + 1 - new) / n_levels
+    if changed > 0:
+        for i in prange(n):
+            for k in range(offsets[i], offsets[i + 1]):
+                stiffness[k] = stiffness0[k] * 0.5 * (factor[i] + factor[bond_j[k]])
+    return changed
