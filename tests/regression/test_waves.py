@@ -124,3 +124,17 @@ def test_ring_script_small(tmp_path) -> None:
     ref = res["reference_peak_pressure_Pa"]
     assert 0.4 * ref < res["runs"]["plain PD"]["peak_pressure_max_Pa"] < 1.5 * ref
     assert (tmp_path / "seed003_fig21_ring.png").exists()
+
+
+def test_wave_figures_script(tmp_path) -> None:
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(
+        "make_figures", EXAMPLES / "waves" / "make_figures.py"
+    )
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    assert mod.main(["--out", str(tmp_path), "--no-readme", "--skip-blast"]) == 0
+    res = json.loads((tmp_path / "pulse_results.json").read_text())
+    assert set(res) == {f"{s}_{k}" for s in ("sine", "square") for k in mod.KINDS}
+    assert (tmp_path / "seed003_fig7_damping.png").exists()
