@@ -74,7 +74,8 @@ def pulses(out: Path) -> dict:
             wc = sim.deck.output.wave_comparison
             x = sim.cloud.x[:, 0]
             f = SinePulse(wc.duration) if shape == "sine" else SquarePulse(wc.duration)
-            exact = dalembert(x, s.t, lambda t, f=f: wc.amplitude * f(t), v0, wc.source_position)
+            amp = wc.amplitude
+            exact = dalembert(x, s.t, lambda t, f=f, a=amp: a * f(t), v0, wc.source_position)
             behind = wc.source_position + v0 * (s.t - wc.duration) - wc.tail_margin
             results[f"{shape}_{kind}"] = wave_errors(x, s.u[:, 0], exact, wc.amplitude, behind)
             ax.plot(x, s.u[:, 0] * 1e6, lw=1, label=f"{kind} PD")

@@ -136,6 +136,82 @@ def cmd_run(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_ensemble(args: argparse.Namespace) -> int:
+    """Run N Weibull realisations of a deck (seeds seed0 .. seed0 + N - 1) and report the
+    spread of the peak stress and of the damaged area (``ensemble.json``)."""
+    import json
+
+    import numpy as np
+
+    from peridynamics.io.deck import DeckError, load_deck
+    from peridynamics.runner import SetupError, Simulation
+    from peridynamics.solvers import SimulationUnstable
+
+    if args.n < 1:
+        _err("--n must be >= 1")
+        return EXIT_INVALID
+    deck = _load(args)
+    if deck is None:
+        return EXIT_INVALID
+    if deck.damage.weibull is None:
+        _err("ensemble: the deck has no damage.weibull section (nothing to vary)")
+        return EXIT_INVALID
+    out = Path(args.out or Path("results") / f"{deck.name}_ensemble")
+    runs = []
+    for k in range(args.n):
+        seed = args.seed0 + k
+        try:
+            member = load_deck(args.deck, [*(args.set or []), f"damage.weibull.seed={seed}"])
+            sim = Simulation.from_deck(member)
+            summary = sim.run(out / f"seed_{seed}", quiet=True)
+        except (DeckError, SetupError) as exc:
+            _err(f"invalid deck:\n  {exc}")
+            return EXIT_INVALID
+        except SimulationUnstable as exc:
+            _err(f"error (seed {seed}): {exc}")
+            return EXIT_UNSTABLE
+        r = summary["results"]
+        runs.append(
+            {
+                "seed": seed,
+                "peak_stress_Pa": r.get("peak_stress_Pa"),
+                "damaged_area_fraction": r["damaged_area_fraction"],
+                "wall_s": summary["timing"]["wall_s"],
+            }
+        )
+        if not args.quiet:
+            print(
+                f"seed {seed}: peak stress {r.get('peak_stress_Pa')}, damaged area "
+                f"{r['damaged_area_fraction']:.4f}"
+            )
+
+    def spread(key: str) -> dict[str, float] | None:
+        vals = np.array([r[key] for r in runs if r[key] is not None], dtype=float)
+        if vals.size == 0:
+            return None
+        return {
+            "mean": float(vals.mean()),
+            "std": float(vals.std(ddof=1)) if vals.size > 1 else 0.0,
+            "min": float(vals.min()),
+            "max": float(vals.max()),
+            "cv": float(vals.std(ddof=1) / vals.mean()) if vals.size > 1 and vals.mean() else 0.0,
+        }
+
+    report = {
+        "deck": str(args.deck),
+        "n": args.n,
+        "seeds": [r["seed"] for r in runs],
+        "peak_stress_Pa": spread("peak_stress_Pa"),
+        "damaged_area_fraction": spread("damaged_area_fraction"),
+        "runs": runs,
+    }
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "ensemble.json").write_text(json.dumps(report, indent=2))
+    if not args.quiet:
+        print(f"wrote {out / 'ensemble.json'}")
+    return EXIT_OK
+
+
 def cmd_examples(args: argparse.Namespace) -> int:
     """List the examples or copy one to a folder."""
     ex = list_examples()
@@ -317,6 +393,14 @@ def build_parser() -> argparse.ArgumentParser:
     )
     r.add_argument("--resume", metavar="DIR", help="continue from the checkpoint in DIR")
     r.set_defaults(func=cmd_run)
+
+    en = sub.add_parser("ensemble", help="run N Weibull realisations of a deck")
+    deck_args(en)
+    en.add_argument("--n", type=int, default=5, help="number of realisations")
+    en.add_argument("--seed0", type=int, default=0, help="first seed (then +1, +2, ...)")
+    en.add_argument("--out", help="output folder (default results/<name>_ensemble)")
+    en.add_argument("--quiet", action="store_true")
+    en.set_defaults(func=cmd_ensemble)
 
     c = sub.add_parser("check", help="validate a deck without running (exit 0 valid, 2 not)")
     deck_args(c)

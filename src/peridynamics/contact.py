@@ -106,7 +106,11 @@ class ShortRangeContact:
     n_rebuilds : int
         Number of Verlet-list builds so far (the first evaluation builds the list).
     pair_offsets, pair_j : ndarray
-        The directed CSR Verlet list of the last build (both (i, j) and (j, i)).
+        The directed CSR Verlet list of the last build (both (i, j) and (j, i)), each
+        row sorted by j.
+    pair_bond_ij, pair_bond_ji : ndarray of int64
+        Index of bond (i, j) in row i and of bond (j, i) in row j of ``bonds`` for each
+        listed pair, -1 when the two points are not bonded.
 
     References
     ----------

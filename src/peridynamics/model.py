@@ -143,6 +143,7 @@ class Model:
                 self.cloud.x, u, b.offsets, b.bond_j, b.bond_length, self._stiffness0, intact,
                 self._w_a, self._w_c, self.softening.levels, self.softening.residual,
                 self.sed_level, self.sed_factor, self.sed_energy, self.stiffness,
+                self.softening.energy == "tensile",
             )  # fmt: skip
         broken = int(
             self._force_kernel(

@@ -100,18 +100,24 @@ def test_force_is_minus_energy_gradient(dim: int) -> None:
     cloud, bonds, u, intact = scene(dim, 7)
     contact = ShortRangeContact(cloud.x, cloud.volume, bonds, d_c, CS)
     vf = cloud.volume[:, None] * numba_force(contact, u, intact)  # force on each point (N)
-    h = 1e-6 * DX
-    grad = np.zeros_like(u)
-    for i in range(cloud.n_points):
+    h = 1e-5 * DX  # round-off and truncation errors both ~1e-10 relative
+
+    def slope(w):  # central difference of the energy along the displacement field w
+        return (contact.energy(u + h * w, intact) - contact.energy(u - h * w, intact)) / (2 * h)
+
+    rng = np.random.default_rng(1)
+    scale = np.abs(vf).max()
+    assert scale > 0
+    for _ in range(6):  # random directions: dE/dh = -sum V_i F_i . w_i
+        w = rng.normal(size=u.shape)
+        assert abs(slope(w) + np.sum(vf * w)) < 1e-8 * np.abs(vf * w).sum()  # meas. 2e-10
+    points = rng.choice(np.flatnonzero(np.abs(vf).max(axis=1) > 0), 8, replace=False)
+    for i in points:  # single components of points in contact
         for c in range(dim):
-            up = u.copy()
-            up[i, c] += h
-            um = u.copy()
-            um[i, c] -= h
-            grad[i, c] = (contact.energy(up, intact) - contact.energy(um, intact)) / (2 * h)
+            w = np.zeros_like(u)
+            w[i, c] = 1.0
+            assert abs(slope(w) + vf[i, c]) < 1e-8 * scale  # measured 6e-10
     assert contact.n_rebuilds == 1  # the probes are far below skin / 2
-    assert np.abs(vf).max() > 0
-    assert rel_err(vf, -grad) < 1e-6
 
 
 def test_intact_bond_excludes_the_pair_and_breaking_it_switches_contact_on() -> None:
@@ -235,37 +241,40 @@ def test_arguments_and_defaults() -> None:
 
 
 def test_two_blocks_collide_and_bounce_back_elastically() -> None:
-    """Two 6 x 6 elastic blocks, not bonded to each other, fly at each other (+-v0):
-    the contact keeps them apart, they bounce back, momentum is conserved and the
+    """Two 6 x 6 elastic blocks, every bond between them broken, fly at each other
+    (+-v0): the contact keeps them apart, they bounce back, momentum is conserved and the
     collision is nearly elastic. Without contact they pass through each other."""
     E, rho, h, delta = 70e9, 2700.0, 1e-3, 3.015 * DX
     g = (np.arange(6) + 0.5) * DX
     gx, gy = np.meshgrid(g, g, indexing="ij")
     a = np.column_stack([gx.ravel(), gy.ravel()])
-    x = np.vstack([a, a + [5 * DX + 3.5 * DX, 0.0]])  # faces 3.5 dx > delta apart
+    x = np.vstack([a, a + [5 * DX + 1.5 * DX, 0.0]])  # facing rows 1.5 dx apart
     na = len(a)
     cloud = PointCloud(
         x=x, volume=np.full(len(x), DX * DX * h), spacing=DX, cross_section=h, plane="stress"
     )
     bonds = build_bonds(cloud, delta)
-    assert np.all((bonds.bond_i < na) == (bonds.bond_j < na))  # no bond between blocks
+    across = (bonds.bond_i < na) != (bonds.bond_j < na)
+    assert across.any()
+    intact0 = bonds.bond_intact.copy()
+    intact0[across] = 0  # two separate bodies
     material = BondBasedMaterial(E, rho)
     model = Model(cloud, bonds, material)
     d_c = 0.9 * DX
     # a soft contact (0.3 c): contact time long against the blocks' vibration period,
     # so little energy goes into vibrations (15 c d_c / delta gives restitution ~0.87)
-    c = material.micromodulus_constant(2, delta, h, "stress")
-    contact = ShortRangeContact(cloud.x, cloud.volume, bonds, d_c, 0.3 * c)
+    c_s = 0.3 * material.micromodulus_constant(2, delta, h, "stress")
+    contact = ShortRangeContact(cloud.x, cloud.volume, bonds, d_c, c_s)
     mass = rho * cloud.volume
     v0 = 50.0
     p_block = mass[:na].sum() * v0
     dt = 0.3 * model.stable_time_step()
 
-    def simulate(with_contact: bool, n_steps: int | None = None):
+    def simulate(with_contact: bool, n_steps: int = 3000):
         u = np.zeros_like(x)
         v = np.zeros_like(x)
         v[:na, 0], v[na:, 0] = v0, -v0
-        intact = bonds.bond_intact.copy()
+        intact = intact0.copy()
         f = np.zeros_like(x)
         smax = np.zeros(len(x))
 
@@ -279,7 +288,7 @@ def test_two_blocks_collide_and_bounce_back_elastically() -> None:
         e0 = model.kinetic_energy(v)
         out = {"dmin": np.inf, "overlap": False, "p": 0.0, "e_err": 0.0, "ref_err": 0.0}
         touched, step = False, 0
-        while (n_steps is None and step < 5000) or (n_steps is not None and step < n_steps):
+        while step < n_steps:
             v += 0.5 * dt * acc
             u += dt * v
             acc = accel()
@@ -290,16 +299,16 @@ def test_two_blocks_collide_and_bounce_back_elastically() -> None:
             out["dmin"] = min(out["dmin"], d)
             out["overlap"] |= bool(y[:na, 0].max() >= y[na:, 0].min())
             out["p"] = max(out["p"], np.abs((mass[:, None] * v).sum(axis=0)).max())
-            if with_contact:
+            touched |= d < d_c
+            if with_contact and (step % 10 == 0 or d < d_c and step % 5 == 0):
                 e = model.kinetic_energy(v) + model.strain_energy(u, intact)
                 e += contact.energy(u, intact)
                 out["e_err"] = max(out["e_err"], abs(e - e0) / e0)
-                if d < d_c and step % 5 == 0:
-                    f_ref = reference(cloud, bonds, u, intact, d_c, 0.3 * c)
+                if d < d_c:
                     fc = numba_force(contact, u, intact)
+                    f_ref = reference(cloud, bonds, u, intact, d_c, c_s)
                     out["ref_err"] = max(out["ref_err"], rel_err(fc, f_ref))
-            touched |= d < d_c
-            if n_steps is None and touched and d > 2 * d_c:
+            if with_contact and touched and d > 2 * d_c:
                 break  # separated again
         out["steps"] = step
         out["ke_ratio"] = model.kinetic_energy(v) / e0
@@ -307,15 +316,17 @@ def test_two_blocks_collide_and_bounce_back_elastically() -> None:
         return out
 
     res = simulate(True)
-    assert res["steps"] < 5000  # they did bounce back apart
+    # measured: 309 steps, dmin 0.81 d_c, |p| 8e-16 p_block, energy drift 2.3e-4,
+    # restitution 0.987, KE ratio 0.989, 3 rebuilds
+    assert res["steps"] < 3000  # they did bounce back apart
     assert not res["overlap"]
-    assert res["dmin"] > 0.5 * d_c  # measured 0.81 d_c
-    assert res["p"] < 1e-12 * p_block  # measured ~2e-15
+    assert res["dmin"] > 0.5 * d_c
+    assert res["p"] < 1e-12 * p_block
     assert res["ref_err"] < 1e-12
-    assert res["e_err"] < 5e-3  # KE + strain + contact energy, measured 3e-4
-    assert 0.97 < res["restitution"] < 1.0  # measured 0.987
-    assert 0.97 < res["ke_ratio"] < 1.01  # measured 0.989
-    assert 1 < contact.n_rebuilds < res["steps"] // 20  # measured 9 rebuilds, ~600 steps
-    # control: the same flight without contact interpenetrates
+    assert res["e_err"] < 5e-3  # KE + strain + contact energy
+    assert 0.97 < res["restitution"] < 1.0
+    assert 0.97 < res["ke_ratio"] < 1.01
+    assert 1 < contact.n_rebuilds < res["steps"] // 10
+    # control: the same flight without contact interpenetrates (measured dmin 0.003 d_c)
     ghost = simulate(False, res["steps"])
     assert ghost["overlap"] and ghost["dmin"] < 0.5 * d_c

@@ -20,7 +20,10 @@ Choices the paper leaves open (SPEC.md 2.2, all options here):
   W_C,i = k_C W_A,i with ``k_c`` = 4 by default;
 * N = ``levels`` = 10 by default; the seed prints (N + 1 - n)/N without the factor E,
   which dimensionally must multiply E (SEED-fixed);
-* ``residual`` = 0.05.
+* ``residual`` = 0.05;
+* ``energy``: "total" sums every bond as eq. 22 prints; "tensile" counts only stretched
+  bonds (s > 0), so that compression alone does not soften (see docs/theory_rock.md for
+  what each gives in uniaxial compression).
 """
 
 from __future__ import annotations
@@ -40,6 +43,7 @@ class SEDSoftening:
     k_c: float = 4.0
     residual: float = 0.05
     threshold_stretch: float | None = None
+    energy: str = "total"
 
     def __post_init__(self) -> None:
         if self.levels < 1:
@@ -48,6 +52,10 @@ class SEDSoftening:
             raise ValueError(f"sed_softening.k_c must be > 1 (W_C > W_A), got {self.k_c}")
         if not 0 < self.residual <= 1:
             raise ValueError(f"sed_softening.residual must be in (0, 1], got {self.residual}")
+        if self.energy not in ("total", "tensile"):
+            raise ValueError(
+                f"sed_softening.energy must be 'total' or 'tensile', got {self.energy!r}"
+            )
         if self.threshold_stretch is not None and not self.threshold_stretch > 0:
             raise ValueError("sed_softening.threshold_stretch must be > 0")
 

@@ -273,6 +273,7 @@ class SEDSofteningSpec(Strict):
     k_c: Annotated[float, Field(gt=1, allow_inf_nan=False), _Num] = 4.0
     residual: Annotated[float, Field(gt=0, le=1, allow_inf_nan=False), _Num] = 0.05
     threshold_stretch: PosFloat | None = None
+    energy: Literal["total", "tensile"] = "total"
 
 
 class Damage(Strict):

@@ -12,19 +12,18 @@ from the pair potential ``phi_ij = V_i V_j c_s (d_c - r)^2 / (2 d_c)`` (J), summ
 per unordered pair.
 
 Neighbour search (standard molecular-dynamics practice, e.g. Allen & Tildesley,
-*Computer Simulation of Liquids*, sections 5.3-5.4): the current positions are binned
-into cells of side >= ``d_c + skin`` identified by a linear cell key; the points are
-sorted by key, so the points of a run of 3 cells along the last axis form one contiguous
-slice, read from a dense table of cell starts (or, when the grid would be huge because
-some point flew far away, found by two binary searches in the sorted keys). Every pair
-closer than ``d_c + skin`` goes into a
-directed CSR Verlet list (both (i, j) and (j, i) stored, each row sorted by j), with the
-index of bond (i, j) in row i and of bond (j, i) in row j (-1 if not bonded), so the
-force pass reads ``intact`` directly. The force pass gathers over row i only (prange over
-points, no atomics).
+*Computer Simulation of Liquids*: cell lists and Verlet lists): the current positions
+are binned into cells of side >= ``d_c + skin`` identified by a linear cell key; the
+points are sorted by key, so the points of a run of 3 cells along the last axis form one
+contiguous slice, read from a dense table of cell starts (or, when the grid would be
+huge because some point flew far away, found by two binary searches in the sorted
+keys). Every pair closer than ``d_c + skin`` goes into a directed CSR Verlet list (both
+(i, j) and (j, i) stored, each row sorted by j), with the index of bond (i, j) in row i
+and of bond (j, i) in row j (-1 if not bonded), so the force pass reads ``intact``
+directly. The force pass gathers over row i only (prange over points, no atomics).
 
-The last function, :func:`contact_force_reference`, is a brute-force O(n^2) NumPy twin
-of the force kernel for the tests.
+The last two functions, :func:`contact_force_reference` and
+:func:`contact_energy_reference`, are brute-force O(n^2) NumPy twins for the tests.
 """
 
 from __future__ import annotations

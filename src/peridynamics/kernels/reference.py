@@ -120,12 +120,14 @@ def sed_update(
     n_levels: int,
     residual: float,
     level: NDArray,
+    tensile_only: bool = False,
 ) -> tuple[F, NDArray, F, F]:
     """NumPy twin of :func:`peridynamics.kernels.sed.sed_update`: returns (energy (n,),
     new level (n,), factor (n,), stiffness (n_bonds,))."""
     s = stretch(x, u, bond_i, bond_j, length)
     energy = np.zeros(len(x))
-    np.add.at(energy, bond_i, 0.25 * stiffness0 * intact * s**2 * length)
+    counted = intact * (s > 0) if tensile_only else intact
+    np.add.at(energy, bond_i, 0.25 * stiffness0 * counted * s**2 * length)
     band = np.floor(n_levels * (energy - w_a) / (w_c - w_a)).astype(np.int64)
     new = np.where(
         energy < w_a, 0, np.where(energy < w_c, np.minimum(1 + band, n_levels), n_levels + 1)

@@ -1,0 +1,185 @@
+"""SED softening (seed 001 eqs 18-24) and Weibull heterogeneity (eqs 25-26)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from peridynamics import BondBasedMaterial, Model, build_bonds
+from peridynamics.damage import CriticalStretch, SEDSoftening, WeibullField
+from peridynamics.geometry import rectangle
+from peridynamics.kernels import reference
+from peridynamics.kernels.sed import sed_update
+
+E = 4.71e9
+
+
+def patch(surface_correction: bool = True, damage=None, softening=None):
+    cloud = rectangle((0.02, 0.02), 5e-4, thickness=0.02)
+    bonds = build_bonds(cloud, 3 * 5e-4)
+    model = Model(
+        cloud,
+        bonds,
+        BondBasedMaterial(E, 1810.0),
+        damage or CriticalStretch(0.00318),
+        surface_correction=surface_correction,
+        softening=softening,
+    )
+    return cloud, model
+
+
+def test_sed_of_uniform_strain_equals_continuum() -> None:
+    """Interior W_i under uniaxial strain = E' eps^2 / 2 with E' = 9E/8 (plane stress,
+    nu = 1/3), and the softening kernel's W equals the model's energy density."""
+    cloud, model = patch(softening=SEDSoftening())
+    eps = 1e-4
+    u = np.zeros_like(cloud.x)
+    u[:, 0] = eps * cloud.x[:, 0]
+    w_model = model.strain_energy_density(u, model.bonds.bond_intact)
+    centre = np.argmin(np.linalg.norm(cloud.x - 0.01, axis=1))
+    assert w_model[centre] == pytest.approx(9 / 16 * E * eps**2, rel=2e-3)
+    f = np.zeros_like(u)
+    model.internal_force(u, model.bonds.bond_intact.copy(), f, np.zeros(cloud.n_points))
+    np.testing.assert_allclose(model.sed_energy, w_model, rtol=1e-10)
+
+
+def test_levels_step_exactly_at_the_thresholds() -> None:
+    """A point's level is 0 just below W_A, 1 at W_A, n in the n-th band, N + 1 at W_C,
+    and never goes back (irreversible)."""
+    soft = SEDSoftening(levels=4, k_c=3.0, residual=0.05)
+    x = np.array([[0.0, 0.0], [1.0, 0.0]])
+    offsets = np.array([0, 1, 2])
+    bond_j = np.array([1, 0], dtype=np.int32)
+    length = np.ones(2)
+    k0 = np.full(2, 4.0)  # W = 1/4 k0 s^2 |xi| = s^2
+    intact = np.ones(2, dtype=np.uint8)
+    w_a, w_c = np.full(2, 1.0), np.full(2, 3.0)
+    level = np.zeros(2, dtype=np.int64)
+    factor, energy, stiff = np.ones(2), np.zeros(2), k0.copy()
+
+    def at(w: float) -> int:
+        u = np.array([[0.0, 0.0], [math.sqrt(w), 0.0]])  # s = sqrt(w) -> W = w
+        sed_update(x, u, offsets, bond_j, length, k0, intact, w_a, w_c, 4, 0.05,
+                   level, factor, energy, stiff, False)  # fmt: skip
+        return int(level[0])
+
+    assert at(1.0 - 1e-9) == 0 and factor[0] == 1.0
+    assert at(1.0 + 1e-9) == 1 and factor[0] == 1.0  # E_1 = E (N + 1 - 1) / N = E
+    assert at(1.5 - 1e-9) == 1
+    assert at(1.5 + 1e-9) == 2 and factor[0] == pytest.approx(3 / 4)  # band [1.5, 2)
+    assert stiff[0] == pytest.approx(4.0 * 3 / 4)  # (c_i + c_j) / 2, both points alike
+    assert at(2.999) == 4 and factor[0] == pytest.approx(1 / 4)
+    assert at(3.0 + 1e-9) == 5 and factor[0] == pytest.approx(0.05)  # residual
+    assert at(0.0) == 5  # unloading does not heal
+    np.testing.assert_array_equal(soft.factor(np.arange(6)), [1, 1, 0.75, 0.5, 0.25, 0.05])
+
+
+@pytest.mark.parametrize("tensile", [False, True])
+def test_sed_kernel_matches_numpy_twin(tensile: bool) -> None:
+    cloud, model = patch(softening=SEDSoftening())
+    b = model.bonds
+    rng = np.random.default_rng(2)
+    u = rng.normal(size=cloud.x.shape) * 5e-6
+    intact = (rng.random(b.n_bonds) > 0.05).astype(np.uint8)
+    w_a = rng.uniform(5e2, 2e3, cloud.n_points)
+    w_c = 4 * w_a
+    level0 = rng.integers(0, 3, cloud.n_points)
+    level, factor = level0.copy(), SEDSoftening().factor(level0).astype(float)
+    energy, stiff = np.zeros(cloud.n_points), model.stiffness.copy()
+    k0 = model.stiffness.copy()
+    sed_update(cloud.x, u, b.offsets, b.bond_j, b.bond_length, k0, intact, w_a, w_c, 10,
+               0.05, level, factor, energy, stiff, tensile)  # fmt: skip
+    e_ref, lev_ref, f_ref, k_ref = reference.sed_update(
+        cloud.x,
+        u,
+        b.bond_i,
+        b.bond_j,
+        b.bond_length,
+        k0,
+        intact,
+        w_a,
+        w_c,
+        10,
+        0.05,
+        level0,
+        tensile,
+    )
+    np.testing.assert_allclose(energy, e_ref, rtol=1e-10)
+    np.testing.assert_array_equal(level, lev_ref)
+    assert (level != level0).any()
+    np.testing.assert_allclose(factor, f_ref, rtol=1e-14)
+    np.testing.assert_allclose(stiff, k_ref, rtol=1e-14)
+
+
+def test_softening_lowers_the_force() -> None:
+    """Same displacement, one point at the residual level: its bonds carry less force."""
+    cloud, model = patch(softening=SEDSoftening())
+    _, plain = patch()
+    eps = 1e-4
+    u = np.zeros_like(cloud.x)
+    u[:, 0] = eps * cloud.x[:, 0]
+    centre = int(np.argmin(np.linalg.norm(cloud.x - 0.01, axis=1)))
+    model._w_a[centre] = 0.0  # force this one point past W_C
+    model._w_c[centre] = 1e-30
+    f1, f0 = np.zeros_like(u), np.zeros_like(u)
+    ms = np.zeros(cloud.n_points)
+    model.internal_force(u, model.bonds.bond_intact.copy(), f1, ms)
+    plain.internal_force(u, plain.bonds.bond_intact.copy(), f0, ms)
+    assert model.sed_level[centre] == 11
+    lo, hi = model.bonds.offsets[centre], model.bonds.offsets[centre + 1]
+    np.testing.assert_allclose(model.stiffness[lo:hi], plain.stiffness[lo:hi] * 0.525)
+    assert not np.allclose(f1, f0)
+
+
+@pytest.mark.parametrize("shape", [2.0, 10.0, 50.0])
+def test_weibull_samples_pass_kolmogorov_smirnov(shape: float) -> None:
+    field = WeibullField(shape, seed=11)
+    g = field.sample(20000, u0=3.0)
+    res = stats.kstest(g, stats.weibull_min(shape, scale=3.0).cdf)
+    assert res.pvalue > 0.01
+    # and a wrong shape is rejected, so the test can fail
+    assert stats.kstest(g, stats.weibull_min(shape * 1.3, scale=3.0).cdf).pvalue < 1e-6
+    mean_field = WeibullField(shape, seed=11, u0_is="mean").sample(20000, u0=3.0)
+    assert mean_field.mean() == pytest.approx(3.0, rel=0.02)
+
+
+def test_weibull_field_is_reproducible_and_enters_the_bond_threshold() -> None:
+    a = WeibullField(10.0, seed=5).stretch_factors(1000)
+    b = WeibullField(10.0, seed=5).stretch_factors(1000)
+    c = WeibullField(10.0, seed=6).stretch_factors(1000)
+    assert np.array_equal(a, b) and not np.array_equal(a, c)
+    # G Weibull -> s = s0 sqrt(G/u0): factor^2 is Weibull(m)
+    assert stats.kstest(a**2, stats.weibull_min(10.0).cdf).pvalue > 0.01
+    s_direct = WeibullField(10.0, seed=5, variable="critical_stretch").stretch_factors(1000)
+    np.testing.assert_allclose(s_direct, a**2, rtol=1e-12)
+    dmg = CriticalStretch(0.003, weibull=WeibullField(10.0, seed=5))
+    np.testing.assert_allclose(dmg.point_threshold(1000), 0.003 * a)
+    with pytest.raises(ValueError, match="weibull.shape"):
+        WeibullField(0.0)
+    with pytest.raises(ValueError, match="k_c"):
+        SEDSoftening(k_c=1.0)
+
+
+def test_heterogeneity_spreads_with_small_shape() -> None:
+    """Smaller m -> wider spread of point critical stretch (the paper's m study)."""
+    spreads = [
+        np.std(WeibullField(m, seed=1).stretch_factors(5000)) for m in (2, 6, 10, 20, 50, 100)
+    ]
+    assert all(a > b for a, b in zip(spreads, spreads[1:], strict=False))
+
+
+def test_tensile_energy_ignores_compressed_bonds() -> None:
+    """Uniform compression: total SED = continuum, tensile-only SED = 0 (no bond is
+    stretched), so compression alone softens nothing with energy: tensile."""
+    cloud, model = patch(softening=SEDSoftening(energy="tensile"))
+    _, total = patch(softening=SEDSoftening())
+    u = -2.5e-3 * (cloud.x - 0.01)  # isotropic compression, W above W_A
+    for m in (model, total):
+        m.internal_force(u, m.bonds.bond_intact.copy(), np.zeros_like(u), np.zeros(cloud.n_points))
+    assert np.all(model.sed_energy == 0) and np.all(model.sed_level == 0)
+    assert total.sed_energy.max() > 0 and total.sed_level.max() > 0
+    with pytest.raises(ValueError, match="energy"):
+        SEDSoftening(energy="shear")
