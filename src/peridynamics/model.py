@@ -20,7 +20,7 @@ from peridynamics.damage.critical_stretch import NO_DAMAGE, CriticalStretch, fam
 from peridynamics.damage.sed import SEDSoftening
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import bond_based
-from peridynamics.kernels.sed import sed_update
+from peridynamics.kernels.sed import sed_stiffness, sed_update
 from peridynamics.kernels.viscous import add_viscous_force
 from peridynamics.loading.conditions import BodyForce
 from peridynamics.materials.bond_based import BondBasedMaterial
@@ -96,9 +96,11 @@ class Model:
         if self.softening is not None:
             self._stiffness0 = self.stiffness.copy()
             self.stiffness = self.stiffness.copy()
-            self._w_a, self._w_c = self.softening.thresholds(
-                self.material.youngs_modulus, self.point_s0
-            )
+            w_a, w_c = self.softening.thresholds(self.material.youngs_modulus, self.point_s0)
+            # no-fail points (s0 = inf) never soften: a finite sentinel keeps the kernel's
+            # arithmetic free of infinities
+            self._w_a = np.where(np.isfinite(w_a), w_a, 1e300)
+            self._w_c = np.where(np.isfinite(w_c), w_c, 1e300)
             self.sed_level = np.zeros(c.n_points, dtype=np.int64)
             self.sed_factor = np.ones(c.n_points)
             self.sed_energy = np.zeros(c.n_points)
@@ -139,12 +141,14 @@ class Model:
         """
         b = self.bonds
         if self.softening is not None:
-            sed_update(
+            changed = sed_update(
                 self.cloud.x, u, b.offsets, b.bond_j, b.bond_length, self._stiffness0, intact,
                 self._w_a, self._w_c, self.softening.levels, self.softening.residual,
                 self.sed_level, self.sed_factor, self.sed_energy, self.stiffness,
                 self.softening.energy == "tensile",
             )  # fmt: skip
+            if changed:
+                self._sed_stiffness()
         broken = int(
             self._force_kernel(
                 self.cloud.x,
@@ -173,6 +177,28 @@ class Model:
                 intact, self._viscous[0], self._viscous[1], force,
             )  # fmt: skip
         return broken
+
+    def history_arrays(self) -> dict[str, NDArray]:
+        """History variables kept in the model (for checkpoints): the SED levels."""
+        return {} if self.softening is None else {"sed_level": self.sed_level.copy()}
+
+    def restore_history(self, arrays: dict[str, NDArray]) -> None:
+        """Restore :meth:`history_arrays` (and the moduli that follow from them)."""
+        if self.softening is None:
+            return
+        if "sed_level" not in arrays or arrays["sed_level"].shape != self.sed_level.shape:
+            raise ValueError("the checkpoint has no SED softening levels for this model")
+        self.sed_level[:] = arrays["sed_level"]
+        self._sed_stiffness()
+
+    def _sed_stiffness(self) -> None:
+        """Point factors and bond stiffness from the SED levels (eq. 24)."""
+        assert self.softening is not None
+        b = self.bonds
+        sed_stiffness(
+            b.offsets, b.bond_j, self._stiffness0, self.sed_level, self.softening.levels,
+            self.softening.residual, self.sed_factor, self.stiffness,
+        )  # fmt: skip
 
     def viscous_power(self, u: NDArray, v: NDArray, intact: NDArray[np.uint8]) -> float:
         """Power of the viscous forces sum_i V_i F_visc_i . v_i (W); never positive. 0 for

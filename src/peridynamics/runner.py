@@ -547,7 +547,7 @@ class Simulation:
         out.mkdir(parents=True, exist_ok=True)
         o = self.deck.output
         if resume:
-            state, records, fp = read_checkpoint(out)
+            state, records, fp, model_state = read_checkpoint(out)
             if fp != self.fingerprint():
                 raise SetupError(
                     "--resume",
@@ -560,6 +560,7 @@ class Simulation:
                     f"the run in {str(out)!r} has already finished "
                     f"({state.step} steps); nothing to resume",
                 )
+            self.model.restore_history(model_state)
             self.solver._last_good = state.copy()
             recorder = Recorder(self.deck, self.model, records)
         else:
@@ -589,7 +590,13 @@ class Simulation:
                     if o.vtk_every and state.step % o.vtk_every == 0:
                         self._frame(out, state, recorder.records)
                     if checkpoint_every and state.step % checkpoint_every == 0:
-                        write_checkpoint(out, state, recorder.records, self.fingerprint())
+                        write_checkpoint(
+                            out,
+                            state,
+                            recorder.records,
+                            self.fingerprint(),
+                            self.model.history_arrays(),
+                        )
                     if state.step == _CRASH_AT_STEP:  # test hook: a hard crash mid-run
                         os._exit(137)
                     if state.step % 50 == 0 or state.step == n_total:

@@ -12,7 +12,7 @@ from peridynamics import BondBasedMaterial, Model, build_bonds
 from peridynamics.damage import CriticalStretch, SEDSoftening, WeibullField
 from peridynamics.geometry import rectangle
 from peridynamics.kernels import reference
-from peridynamics.kernels.sed import sed_update
+from peridynamics.kernels.sed import sed_stiffness, sed_update
 
 E = 4.71e9
 
@@ -64,6 +64,7 @@ def test_levels_step_exactly_at_the_thresholds() -> None:
         u = np.array([[0.0, 0.0], [math.sqrt(w), 0.0]])  # s = sqrt(w) -> W = w
         sed_update(x, u, offsets, bond_j, length, k0, intact, w_a, w_c, 4, 0.05,
                    level, factor, energy, stiff, False)  # fmt: skip
+        sed_stiffness(offsets, bond_j, k0, level, 4, 0.05, factor, stiff)
         return int(level[0])
 
     assert at(1.0 - 1e-9) == 0 and factor[0] == 1.0
@@ -92,6 +93,7 @@ def test_sed_kernel_matches_numpy_twin(tensile: bool) -> None:
     k0 = model.stiffness.copy()
     sed_update(cloud.x, u, b.offsets, b.bond_j, b.bond_length, k0, intact, w_a, w_c, 10,
                0.05, level, factor, energy, stiff, tensile)  # fmt: skip
+    sed_stiffness(b.offsets, b.bond_j, k0, level, 10, 0.05, factor, stiff)
     e_ref, lev_ref, f_ref, k_ref = reference.sed_update(
         cloud.x,
         u,

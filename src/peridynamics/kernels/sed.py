@@ -12,8 +12,12 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
+#: fast-math without "no infs / no NaNs": thresholds of no-fail points are huge, and a
+#: comparison must stay a comparison
+_FAST = {"nsz", "arcp", "contract", "afn", "reassoc"}
 
-@njit(parallel=True, fastmath=True, error_model="numpy", cache=True)
+
+@njit(parallel=True, fastmath=_FAST, error_model="numpy", cache=True)
 def sed_update(
     x, u, offsets, bond_j, length, stiffness0, intact, w_a, w_c, n_levels, residual,
     level, factor, energy, stiffness, tensile_only,
@@ -23,10 +27,10 @@ def sed_update(
     energy[i] = 1/4 sum_k stiffness0_k mu_k s_k^2 |xi_k| (J/m^3, eq. 22, initial moduli),
     over the stretched bonds only (s_k > 0) when ``tensile_only``;
     new level 0 below w_a[i], 1 + floor(N (W - w_a) / (w_c - w_a)) (at most N) in
-    [w_a, w_c), N + 1 at or above w_c; level[i] = max(old, new) (irreversible);
-    factor[i] = 1, (N + 1 - n) / N, residual for levels 0, n = 1..N, N + 1;
-    stiffness_k = stiffness0_k (factor_i + factor_j) / 2 (eq. 24).
-    Returns the number of points whose level rose.
+    [w_a, w_c), N + 1 at or above w_c; level[i] = max(old, new) (irreversible).
+    ``factor`` and ``residual`` are unused here (kept for a uniform signature).
+    Returns the number of points whose level rose; the caller then rebuilds the bond
+    stiffness with :func:`sed_stiffness` (``stiffness`` is not touched here).
     """
     n, d = x.shape
     changed = 0
@@ -56,12 +60,25 @@ def sed_update(
         if new > level[i]:
             level[i] = new
             changed += 1
-            if new == n_levels + 1:
-                factor[i] = residual
-            else:
-                factor[i] = (n_levels + 1 - new) / n_levels
-    if changed > 0:
-        for i in prange(n):
-            for k in range(offsets[i], offsets[i + 1]):
-                stiffness[k] = stiffness0[k] * 0.5 * (factor[i] + factor[bond_j[k]])
     return changed
+
+
+@njit(parallel=True, fastmath=False, cache=True)
+def sed_stiffness(
+    offsets, bond_j, stiffness0, level, n_levels, residual, factor, stiffness
+):  # pragma: no cover - compiled
+    """factor_i = E_i / E from the levels (1, (N + 1 - n) / N, residual for 0, n = 1..N,
+    N + 1) and stiffness_k = stiffness0_k (factor_i + factor_j) / 2 (eq. 24). Exact
+    arithmetic (no fast-math): a run resumed from a checkpoint rebuilds the same bits."""
+    n = offsets.shape[0] - 1
+    for i in prange(n):
+        lv = level[i]
+        if lv == 0:
+            factor[i] = 1.0
+        elif lv == n_levels + 1:
+            factor[i] = residual
+        else:
+            factor[i] = (n_levels + 1 - lv) / n_levels
+    for i in prange(n):
+        for k in range(offsets[i], offsets[i + 1]):
+            stiffness[k] = stiffness0[k] * 0.5 * (factor[i] + factor[bond_j[k]])
