@@ -20,7 +20,7 @@ from peridynamics.damage.critical_stretch import NO_DAMAGE, CriticalStretch, fam
 from peridynamics.damage.sed import SEDSoftening
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import bond_based
-from peridynamics.kernels.sed import sed_stiffness, sed_update
+from peridynamics.kernels.sed import sed_stiffness, sed_stiffness_raised, sed_update
 from peridynamics.kernels.viscous import add_viscous_force
 from peridynamics.loading.conditions import BodyForce
 from peridynamics.materials.bond_based import BondBasedMaterial
@@ -104,6 +104,8 @@ class Model:
             self.sed_level = np.zeros(c.n_points, dtype=np.int64)
             self.sed_factor = np.ones(c.n_points)
             self.sed_energy = np.zeros(c.n_points)
+            self._sed_raised = np.zeros(c.n_points, dtype=np.uint8)
+            self._reverse = self.bonds.reverse_index()
         self._viscous: tuple[float, float] | None = None
         if self.viscosity is not None and self.viscosity.active:
             self._viscous = self.viscosity.coefficients(
@@ -145,10 +147,14 @@ class Model:
                 self.cloud.x, u, b.offsets, b.bond_j, b.bond_length, self._stiffness0, intact,
                 self._w_a, self._w_c, self.softening.levels, self.softening.residual,
                 self.sed_level, self.sed_factor, self.sed_energy, self.stiffness,
-                self.softening.energy == "tensile",
+                self.softening.energy == "tensile", self._sed_raised,
             )  # fmt: skip
             if changed:
-                self._sed_stiffness()
+                sed_stiffness_raised(
+                    b.offsets, b.bond_j, self._reverse, self._stiffness0, self.sed_level,
+                    self.softening.levels, self.softening.residual, self.sed_factor,
+                    self.stiffness, self._sed_raised,
+                )  # fmt: skip
         broken = int(
             self._force_kernel(
                 self.cloud.x,

@@ -63,7 +63,7 @@ def test_levels_step_exactly_at_the_thresholds() -> None:
     def at(w: float) -> int:
         u = np.array([[0.0, 0.0], [math.sqrt(w), 0.0]])  # s = sqrt(w) -> W = w
         sed_update(x, u, offsets, bond_j, length, k0, intact, w_a, w_c, 4, 0.05,
-                   level, factor, energy, stiff, False)  # fmt: skip
+                   level, factor, energy, stiff, False, np.zeros(2, np.uint8))  # fmt: skip
         sed_stiffness(offsets, bond_j, k0, level, 4, 0.05, factor, stiff)
         return int(level[0])
 
@@ -92,7 +92,8 @@ def test_sed_kernel_matches_numpy_twin(tensile: bool) -> None:
     energy, stiff = np.zeros(cloud.n_points), model.stiffness.copy()
     k0 = model.stiffness.copy()
     sed_update(cloud.x, u, b.offsets, b.bond_j, b.bond_length, k0, intact, w_a, w_c, 10,
-               0.05, level, factor, energy, stiff, tensile)  # fmt: skip
+               0.05, level, factor, energy, stiff, tensile,
+               np.zeros(cloud.n_points, np.uint8))  # fmt: skip
     sed_stiffness(b.offsets, b.bond_j, k0, level, 10, 0.05, factor, stiff)
     e_ref, lev_ref, f_ref, k_ref = reference.sed_update(
         cloud.x,
@@ -185,3 +186,24 @@ def test_tensile_energy_ignores_compressed_bonds() -> None:
     assert total.sed_energy.max() > 0 and total.sed_level.max() > 0
     with pytest.raises(ValueError, match="energy"):
         SEDSoftening(energy="shear")
+
+
+def test_partial_stiffness_rebuild_equals_the_full_one() -> None:
+    """Rebuilding only the bonds of raised points gives the bits of a full rebuild."""
+    from peridynamics.kernels.sed import sed_stiffness_raised
+
+    cloud, model = patch(softening=SEDSoftening())
+    b = model.bonds
+    rng = np.random.default_rng(4)
+    k0 = model.stiffness.copy()
+    level = np.zeros(cloud.n_points, np.int64)
+    factor, full = np.ones(cloud.n_points), k0.copy()
+    part = k0.copy()
+    for _ in range(3):
+        raised = (rng.random(cloud.n_points) < 0.05).astype(np.uint8)
+        level[raised == 1] += rng.integers(1, 4, int(raised.sum()))
+        level = np.minimum(level, 11)
+        sed_stiffness(b.offsets, b.bond_j, k0, level, 10, 0.05, factor.copy(), full)
+        sed_stiffness_raised(b.offsets, b.bond_j, b.reverse_index(), k0, level, 10, 0.05,
+                             factor, part, raised)  # fmt: skip
+        assert np.array_equal(full, part)

@@ -20,7 +20,7 @@ _FAST = {"nsz", "arcp", "contract", "afn", "reassoc"}
 @njit(parallel=True, fastmath=_FAST, error_model="numpy", cache=True)
 def sed_update(
     x, u, offsets, bond_j, length, stiffness0, intact, w_a, w_c, n_levels, residual,
-    level, factor, energy, stiffness, tensile_only,
+    level, factor, energy, stiffness, tensile_only, raised,
 ):  # pragma: no cover - compiled  # fmt: skip
     """Update the softening level of every point and, if any changed, the bond stiffness.
 
@@ -28,7 +28,8 @@ def sed_update(
     over the stretched bonds only (s_k > 0) when ``tensile_only``;
     new level 0 below w_a[i], 1 + floor(N (W - w_a) / (w_c - w_a)) (at most N) in
     [w_a, w_c), N + 1 at or above w_c; level[i] = max(old, new) (irreversible).
-    ``factor`` and ``residual`` are unused here (kept for a uniform signature).
+    ``raised`` (n,) uint8 flags the points whose level rose. ``factor``, ``residual``
+    and ``stiffness`` are unused here (kept for a uniform signature).
     Returns the number of points whose level rose; the caller then rebuilds the bond
     stiffness with :func:`sed_stiffness` (``stiffness`` is not touched here).
     """
@@ -60,7 +61,39 @@ def sed_update(
         if new > level[i]:
             level[i] = new
             changed += 1
+            raised[i] = 1
+        else:
+            raised[i] = 0
     return changed
+
+
+@njit(inline="always")
+def _factor(lv, n_levels, residual):
+    if lv == 0:
+        return 1.0
+    if lv == n_levels + 1:
+        return residual
+    return (n_levels + 1 - lv) / n_levels
+
+
+@njit(parallel=True, fastmath=False, cache=True)
+def sed_stiffness_raised(
+    offsets, bond_j, reverse, stiffness0, level, n_levels, residual, factor, stiffness, raised
+):  # pragma: no cover - compiled
+    """:func:`sed_stiffness` for the bonds of the points flagged in ``raised`` only (both
+    directions, through ``reverse``): the same bits as a full rebuild, at a cost
+    proportional to the points whose level rose."""
+    n = offsets.shape[0] - 1
+    for i in prange(n):
+        if raised[i]:
+            factor[i] = _factor(level[i], n_levels, residual)
+    for i in prange(n):
+        if raised[i]:
+            for k in range(offsets[i], offsets[i + 1]):
+                j = bond_j[k]
+                stiffness[k] = stiffness0[k] * 0.5 * (factor[i] + factor[j])
+                r = reverse[k]
+                stiffness[r] = stiffness0[r] * 0.5 * (factor[j] + factor[i])
 
 
 @njit(parallel=True, fastmath=False, cache=True)
@@ -72,13 +105,7 @@ def sed_stiffness(
     arithmetic (no fast-math): a run resumed from a checkpoint rebuilds the same bits."""
     n = offsets.shape[0] - 1
     for i in prange(n):
-        lv = level[i]
-        if lv == 0:
-            factor[i] = 1.0
-        elif lv == n_levels + 1:
-            factor[i] = residual
-        else:
-            factor[i] = (n_levels + 1 - lv) / n_levels
+        factor[i] = _factor(level[i], n_levels, residual)
     for i in prange(n):
         for k in range(offsets[i], offsets[i + 1]):
             stiffness[k] = stiffness0[k] * 0.5 * (factor[i] + factor[bond_j[k]])
