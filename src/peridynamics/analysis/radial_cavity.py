@@ -293,4 +293,6 @@ def solve_radial_cavity(
     if not np.all(np.isfinite(U)):
         raise FloatingPointError("the solution blew up; check the pressure history")
     srr, stt = _stresses(U, r, M, lam)
-    return RadialCavitySolution(r=r, t=t_out, u=U, sigma_rr=srr, sigma_tt=stt)
+    return RadialCavitySolution(
+        r=r, t=np.asarray(t_out, dtype=np.float64), u=U, sigma_rr=srr, sigma_tt=stt
+    )

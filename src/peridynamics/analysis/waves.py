@@ -82,4 +82,5 @@ def energy_spectral_density(t: ArrayLike, y: ArrayLike) -> tuple[F, F]:
     t, y = np.asarray(t, dtype=float), np.asarray(y, dtype=float)
     dt = float(np.mean(np.diff(t)))
     spec = np.fft.rfft(y) * dt
-    return np.fft.rfftfreq(len(y), dt), np.abs(spec) ** 2
+    freq = np.asarray(np.fft.rfftfreq(len(y), dt), dtype=np.float64)
+    return freq, np.asarray(np.abs(spec) ** 2, dtype=np.float64)
