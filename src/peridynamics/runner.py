@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.analysis.crack import branching, crack_tip, tip_speed
-from peridynamics.analysis.waves import dalembert, dominant_period, wave_errors
+from peridynamics.analysis.waves import dominant_period, pulse_comparison
 from peridynamics.bonds import build_bonds, make_crack
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.damage import NO_DAMAGE, CriticalStretch, SEDSoftening, WeibullField
@@ -752,15 +752,12 @@ class Simulation:
         if wc is not None:
             mat = self.deck.material
             speed = float(np.sqrt(mat.youngs_modulus / mat.density))
-            shape = tf.SinePulse(wc.duration) if wc.shape == "sine" else tf.SquarePulse(wc.duration)
-
-            def source(t: float) -> float:
-                return wc.amplitude * shape(t)
-
             x = self.cloud.x[:, 0]
-            exact = dalembert(x, s.t, source, speed, wc.source_position)
-            behind = wc.source_position + speed * (s.t - wc.duration) - wc.tail_margin
-            results.update(wave_errors(x, s.u[:, 0], exact, wc.amplitude, behind))
+            exact, errors = pulse_comparison(
+                x, s.u[:, 0], s.t, wc.shape, wc.amplitude, wc.duration, speed,
+                wc.source_position, wc.tail_margin,
+            )  # fmt: skip
+            results.update(errors)
             results["wave_front_m"] = wc.source_position + speed * s.t
             path = out / "wave_profile.csv"
             np.savetxt(

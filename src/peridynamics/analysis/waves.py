@@ -46,6 +46,31 @@ def wave_errors(
     }
 
 
+def pulse_comparison(
+    x: ArrayLike,
+    u: ArrayLike,
+    t: float,
+    shape: str,
+    amplitude: float,
+    duration: float,
+    speed: float,
+    source_position: float = 0.0,
+    tail_margin: float = 0.0,
+) -> tuple[F, dict[str, float]]:
+    """The exact profile of a ``sine`` or ``square`` input pulse (amplitude x the
+    ``sine_pulse`` / ``square_pulse`` time function) entering at ``source_position`` at
+    ``speed``, and :func:`wave_errors` of ``u`` against it with the trailing region
+    ending ``tail_margin`` behind the exact pulse's tail. Returns (exact, errors)."""
+    from peridynamics.loading.time_functions import SinePulse, SquarePulse
+
+    if shape not in ("sine", "square"):
+        raise ValueError(f"shape must be 'sine' or 'square', got {shape!r}")
+    f = SinePulse(duration) if shape == "sine" else SquarePulse(duration)
+    exact = dalembert(x, t, lambda s: amplitude * f(s), speed, source_position)
+    behind = source_position + speed * (t - duration) - tail_margin
+    return exact, wave_errors(x, u, exact, amplitude, behind)
+
+
 def dominant_period(t: ArrayLike, y: ArrayLike, min_period: float = 0.0) -> float:
     """Dominant period (s) of a uniformly sampled history from its autocorrelation: the
     lag of the highest autocorrelation peak after the first zero crossing (and after
