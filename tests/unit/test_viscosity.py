@@ -171,3 +171,14 @@ def test_viscous_dispersion_1d_seed003() -> None:
     undamped = viscous_1d(nh, 3.015, 0.0)
     np.testing.assert_allclose(undamped.v_real_over_v0, v, rtol=1e-14)
     assert not undamped.v_imag_over_v0.any()
+
+
+def test_unstable_quadratic_viscosity_stops_with_a_named_point(tmp_path) -> None:
+    """A square pulse's jump with b2 = 20 drives the explicit quadratic term unstable:
+    the run stops, names a non-finite point and points at the quadratic coefficient."""
+    from tests.helpers import EXAMPLES, cli
+
+    proc = cli("run", str(EXAMPLES / "waves" / "pulse_square_plain.yaml"), "--out",
+               str(tmp_path), "--set", "material.viscosity.quadratic=20")  # fmt: skip
+    assert proc.returncode == 3
+    assert "non-finite" in proc.stderr and "material.viscosity.quadratic" in proc.stderr

@@ -212,9 +212,12 @@ class ExplicitSolver:
         if k < 0 and smax > self.max_stretch:
             k = int(np.argmax(s.max_stretch))
         if k >= 0:
+            nonfinite = ~(np.isfinite(s.u).all(axis=1) & np.isfinite(s.v).all(axis=1))
+            if nonfinite.any():  # report a point that is really non-finite
+                k = int(np.argmax(nonfinite))
             coords = self.model.cloud.x[k].tolist()
             mag = float(np.abs(s.u[k] - shift).max())
-            if not (np.all(np.isfinite(s.u[k])) and np.all(np.isfinite(s.v[k]))):
+            if nonfinite.any():
                 what = "a non-finite displacement or velocity"
             elif mag > limit:
                 what = (
@@ -229,7 +232,13 @@ class ExplicitSolver:
             raise SimulationUnstable(
                 f"the run went unstable at step {s.step}, t = {s.t:.6g} s: point {k} at "
                 f"{coords} has {what}. Reduce the time step (now {self.dt:.3g} s, stable "
-                f"limit {self.stable_time_step:.3g} s) or check the loads.",
+                f"limit {self.stable_time_step:.3g} s) or check the loads"
+                + (
+                    "; the quadratic viscosity is not in that limit (it grows with the "
+                    "strain rate): lower material.viscosity.quadratic."
+                    if getattr(getattr(self.model, "viscosity", None), "quadratic", 0) > 0
+                    else "."
+                ),
                 step=s.step,
                 time=s.t,
                 point=k,
