@@ -279,7 +279,9 @@ def build_bonds_for(deck: dk.Deck, cloud: PointCloud) -> Bonds:
 def build_model(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, body: list) -> Model:
     """Material + damage + loads -> Model."""
     m = deck.material
-    material = MATERIALS[m.model](m.youngs_modulus, m.density, m.micromodulus_profile)
+    material = MATERIALS[m.model](
+        m.youngs_modulus, m.density, m.micromodulus_profile, m.micromodulus
+    )
     dmg = deck.damage
     if dmg.model == "none":
         damage = NO_DAMAGE

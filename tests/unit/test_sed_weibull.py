@@ -207,3 +207,34 @@ def test_partial_stiffness_rebuild_equals_the_full_one() -> None:
         sed_stiffness_raised(b.offsets, b.bond_j, b.reverse_index(), k0, level, 10, 0.05,
                              factor, part, raised)  # fmt: skip
         assert np.array_equal(full, part)
+
+
+def test_explicit_micromodulus_option() -> None:
+    """seed 001 prints the 3-D c = 18 k / (pi delta^4) for a plane-stress model: the
+    ``micromodulus`` option uses any given c; the bond stiffness scales with it."""
+    from peridynamics.io.deck import DeckError, parse_deck
+
+    delta, t = 1.5e-3, 0.02
+    k = E / (3 * (1 - 2 * 0.25))
+    c3d = 18 * k / (np.pi * delta**4)
+    c2d = BondBasedMaterial(E, 1810.0).micromodulus_constant(2, delta, t, "stress")
+    assert c3d / c2d == pytest.approx(4 * t / (3 * delta), rel=1e-12)
+    mat = BondBasedMaterial(E, 1810.0, micromodulus_value=c3d)
+    assert mat.micromodulus_constant(2, delta, t, "stress") == c3d
+    cloud = rectangle((0.005, 0.005), 5e-4, thickness=t)
+    bonds = build_bonds(cloud, delta)
+    ratio = (
+        Model(cloud, bonds, mat).stiffness
+        / Model(cloud, bonds, BondBasedMaterial(E, 1810.0)).stiffness
+    )
+    np.testing.assert_allclose(ratio, c3d / c2d, rtol=1e-12)
+    with pytest.raises(ValueError, match="micromodulus"):
+        BondBasedMaterial(E, 1810.0, micromodulus_value=-1.0)
+    deck = {
+        "name": "m", "geometry": {"type": "rectangle", "size": [0.01, 0.005]},
+        "discretisation": {"spacing": 5e-4, "horizon_factor": 3.0},
+        "material": {"youngs_modulus": E, "density": 1810.0, "micromodulus": c3d},
+        "damage": {"fracture_energy": 10.0}, "solver": {"steps": 1},
+    }  # fmt: skip
+    with pytest.raises(DeckError, match="critical_stretch"):
+        parse_deck(deck)

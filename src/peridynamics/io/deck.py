@@ -254,6 +254,7 @@ class Material(Strict):
     density: PosFloat
     poisson_ratio: Annotated[float, Field(gt=-1.0, lt=0.5, allow_inf_nan=False), _Num] | None = None
     micromodulus_profile: Literal["constant", "conical"] = "constant"
+    micromodulus: PosFloat | None = None  # N/m^6: overrides the energy-equivalent c
     viscosity: Viscosity | None = None
 
 
@@ -767,6 +768,14 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
                 "material.poisson_ratio",
                 f"bond-based PMB fixes nu = {nu_fixed:.6g} in {what}; got {nu} "
                 "(omit poisson_ratio or set it to that value)",
+            )
+        )
+    if deck.material.micromodulus is not None and deck.damage.fracture_energy is not None:
+        errors.append(
+            (
+                "damage.fracture_energy",
+                "with an explicit material.micromodulus the fracture energy does not "
+                "fix s0; give damage.critical_stretch instead",
             )
         )
     if deck.damage.model == "none" and deck.damage.no_fail:

@@ -68,11 +68,16 @@ class BondBasedMaterial:
         rho (kg/m^3), > 0.
     profile : {"constant", "conical"}
         Micromodulus profile over the horizon.
+    micromodulus_value : float, optional
+        Use this constant-profile micromodulus c (N/m^6) instead of the energy-equivalent
+        one, e.g. seed 001's printed 18 k / (pi delta^4) in its plane-stress model
+        (SPEC.md 2.1). E then only enters the outputs that quote it.
     """
 
     youngs_modulus: float
     density: float
     profile: Profile = "constant"
+    micromodulus_value: float | None = None
 
     def __post_init__(self) -> None:
         if not (self.youngs_modulus > 0 and math.isfinite(self.youngs_modulus)):
@@ -81,6 +86,12 @@ class BondBasedMaterial:
             )
         if not (self.density > 0 and math.isfinite(self.density)):
             raise ValueError(f"density must be a finite value > 0 kg/m^3, got {self.density}")
+        if self.micromodulus_value is not None and not (
+            self.micromodulus_value > 0 and math.isfinite(self.micromodulus_value)
+        ):
+            raise ValueError(
+                f"micromodulus must be a finite value > 0 N/m^6, got {self.micromodulus_value}"
+            )
         if self.profile not in PROFILES:
             raise ValueError(
                 f"unknown micromodulus profile {self.profile!r}; use one of {PROFILES}"
@@ -90,7 +101,10 @@ class BondBasedMaterial:
     def micromodulus_constant(
         self, dim: int, horizon: float, cross_section: float, plane: str | None
     ) -> float:
-        """Constant-profile micromodulus c (N/m^6), SPEC.md section 0.1."""
+        """Constant-profile micromodulus c (N/m^6), SPEC.md section 0.1 (or the value
+        given as ``micromodulus_value``)."""
+        if self.micromodulus_value is not None:
+            return float(self.micromodulus_value)
         E, d = self.youngs_modulus, horizon
         if dim == 1:
             return 2.0 * E / (cross_section * d**2)
