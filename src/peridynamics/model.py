@@ -20,7 +20,12 @@ from peridynamics.damage.critical_stretch import NO_DAMAGE, CriticalStretch, fam
 from peridynamics.damage.sed import SEDSoftening
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import bond_based
-from peridynamics.kernels.sed import sed_stiffness, sed_stiffness_raised, sed_update
+from peridynamics.kernels.sed import (
+    sed_levels,
+    sed_stiffness,
+    sed_stiffness_raised,
+    sed_update,
+)
 from peridynamics.kernels.viscous import add_viscous_force
 from peridynamics.loading.conditions import BodyForce
 from peridynamics.materials.bond_based import BondBasedMaterial
@@ -105,6 +110,7 @@ class Model:
             self.sed_factor = np.ones(c.n_points)
             self.sed_energy = np.zeros(c.n_points)
             self._sed_raised = np.zeros(c.n_points, dtype=np.uint8)
+            self._k0l = 0.25 * self._stiffness0 * self.bonds.bond_length
             self._reverse = self.bonds.reverse_index()
         self._viscous: tuple[float, float] | None = None
         if self.viscosity is not None and self.viscosity.active:
@@ -142,35 +148,52 @@ class Model:
         has viscosity; ignored otherwise). Returns the number of directed bonds broken.
         """
         b = self.bonds
-        if self.softening is not None:
-            changed = sed_update(
-                self.cloud.x, u, b.offsets, b.bond_j, b.bond_length, self._stiffness0, intact,
-                self._w_a, self._w_c, self.softening.levels, self.softening.residual,
-                self.sed_level, self.sed_factor, self.sed_energy, self.stiffness,
-                self.softening.energy == "tensile", self._sed_raised,
+        soft = self.softening
+        if soft is not None and self.dim == 2:  # forces and SED energy in one pass
+            broken = int(
+                bond_based.force_sed_2d(
+                    self.cloud.x, u, b.offsets, b.bond_j, self.inv_length, self.stiffness,
+                    intact, self.point_s0, self.family_s0_min, force, max_stretch,
+                    self._broken_scratch, self._k0l, soft.energy == "tensile",
+                    self.sed_energy,
+                )
             )  # fmt: skip
-            if changed:
-                sed_stiffness_raised(
-                    b.offsets, b.bond_j, self._reverse, self._stiffness0, self.sed_level,
-                    self.softening.levels, self.softening.residual, self.sed_factor,
-                    self.stiffness, self._sed_raised,
-                )  # fmt: skip
-        broken = int(
-            self._force_kernel(
-                self.cloud.x,
-                u,
-                b.offsets,
-                b.bond_j,
-                self.inv_length,
-                self.stiffness,
-                intact,
-                self.point_s0,
-                self.family_s0_min,
-                force,
-                max_stretch,
-                self._broken_scratch,
+            changed = sed_levels(
+                self.sed_energy, self._w_a, self._w_c, soft.levels, self.sed_level,
+                self._sed_raised,
+            )  # fmt: skip
+        else:
+            broken = int(
+                self._force_kernel(
+                    self.cloud.x,
+                    u,
+                    b.offsets,
+                    b.bond_j,
+                    self.inv_length,
+                    self.stiffness,
+                    intact,
+                    self.point_s0,
+                    self.family_s0_min,
+                    force,
+                    max_stretch,
+                    self._broken_scratch,
+                )
             )
-        )
+            changed = 0
+            if soft is not None:
+                changed = sed_update(
+                    self.cloud.x, u, b.offsets, b.bond_j, b.bond_length, self._stiffness0,
+                    intact, self._w_a, self._w_c, soft.levels, soft.residual, self.sed_level,
+                    self.sed_factor, self.sed_energy, self.stiffness,
+                    soft.energy == "tensile", self._sed_raised,
+                )  # fmt: skip
+        if changed:  # the new moduli act from the next force evaluation on
+            assert soft is not None
+            sed_stiffness_raised(
+                b.offsets, b.bond_j, self._reverse, self._stiffness0, self.sed_level,
+                soft.levels, soft.residual, self.sed_factor, self.stiffness,
+                self._sed_raised,
+            )  # fmt: skip
         if self.contact is not None:
             self.contact.add_force(u, intact, force)
         if self.damping > 0 and v is not None:

@@ -118,7 +118,8 @@ def test_sed_kernel_matches_numpy_twin(tensile: bool) -> None:
 
 
 def test_softening_lowers_the_force() -> None:
-    """Same displacement, one point at the residual level: its bonds carry less force."""
+    """Same displacement, one point at the residual level: its bonds carry less force
+    (from the evaluation after the one that raised its level)."""
     cloud, model = patch(softening=SEDSoftening())
     _, plain = patch()
     eps = 1e-4
@@ -131,6 +132,9 @@ def test_softening_lowers_the_force() -> None:
     ms = np.zeros(cloud.n_points)
     model.internal_force(u, model.bonds.bond_intact.copy(), f1, ms)
     plain.internal_force(u, plain.bonds.bond_intact.copy(), f0, ms)
+    # the levels rise in this evaluation; the new moduli act from the next one
+    np.testing.assert_array_equal(f1, f0)
+    model.internal_force(u, model.bonds.bond_intact.copy(), f1, ms)
     assert model.sed_level[centre] == 11
     lo, hi = model.bonds.offsets[centre], model.bonds.offsets[centre + 1]
     np.testing.assert_allclose(model.stiffness[lo:hi], plain.stiffness[lo:hi] * 0.525)
@@ -238,3 +242,39 @@ def test_explicit_micromodulus_option() -> None:
     }  # fmt: skip
     with pytest.raises(DeckError, match="critical_stretch"):
         parse_deck(deck)
+
+
+@pytest.mark.parametrize("tensile", [False, True])
+def test_fused_2d_force_and_energy_equal_the_separate_passes(tensile: bool) -> None:
+    """force_sed_2d = force_2d (forces, stretches, breaking) + the SED pass (energies)."""
+    from peridynamics.kernels import bond_based
+
+    cloud, model = patch(softening=SEDSoftening())
+    b = model.bonds
+    rng = np.random.default_rng(8)
+    u = rng.normal(size=cloud.x.shape) * 2e-6
+    s0 = np.full(cloud.n_points, 2e-3)
+    s0_min = np.full(cloud.n_points, 2e-3)
+    k0 = model.stiffness.copy()
+    out = {}
+    for fused in (False, True):
+        intact = b.bond_intact.copy()
+        f, ms, nb = np.zeros_like(u), np.zeros(cloud.n_points), np.zeros(cloud.n_points, np.int64)
+        energy = np.zeros(cloud.n_points)
+        if fused:
+            n = bond_based.force_sed_2d(cloud.x, u, b.offsets, b.bond_j, model.inv_length, k0,
+                                        intact, s0, s0_min, f, ms, nb,
+                                        0.25 * k0 * b.bond_length, tensile, energy)  # fmt: skip
+        else:
+            n = bond_based.force_2d(cloud.x, u, b.offsets, b.bond_j, model.inv_length, k0,
+                                    intact, s0, s0_min, f, ms, nb)  # fmt: skip
+            sed_update(cloud.x, u, b.offsets, b.bond_j, b.bond_length, k0, intact,
+                       np.full(cloud.n_points, 1e300), np.full(cloud.n_points, 1e300), 10,
+                       0.05, np.zeros(cloud.n_points, np.int64), np.ones(cloud.n_points),
+                       energy, k0.copy(), tensile, np.zeros(cloud.n_points, np.uint8))  # fmt: skip
+        out[fused] = (n, f, ms, intact, energy)
+    (n0, f0, m0, i0, e0), (n1, f1, m1, i1, e1) = out[False], out[True]
+    assert n0 == n1 > 0 and np.array_equal(i0, i1)
+    np.testing.assert_allclose(f1, f0, rtol=1e-12, atol=1e-12 * np.abs(f0).max())
+    np.testing.assert_allclose(m1, m0, rtol=1e-12)
+    np.testing.assert_allclose(e1, e0, rtol=1e-10)

@@ -192,6 +192,61 @@ def force_3d(
     return nbroken.sum()
 
 
+@njit(inline="always")
+def _family_2d_sed(i, x, u, offsets, bond_j, inv_length, stiffness, intact, k0l, tensile):
+    """:func:`_family_2d` plus the strain energy density with the initial stiffness,
+    W_i = sum_k k0l_k mu_k s_k^2 with k0l = stiffness0 |xi| / 4 (only s > 0 if
+    ``tensile``)."""
+    x0, x1, u0, u1 = x[i, 0], x[i, 1], u[i, 0], u[i, 1]
+    f0 = 0.0
+    f1 = 0.0
+    smax = 0.0
+    w = 0.0
+    for k in range(offsets[i], offsets[i + 1]):
+        j = bond_j[k]
+        e0 = (x[j, 0] - x0) + (u[j, 0] - u0)
+        e1 = (x[j, 1] - x1) + (u[j, 1] - u1)
+        r = np.sqrt(e0 * e0 + e1 * e1)
+        m = intact[k]
+        g = stiffness[k] * m * (inv_length[k] - 1.0 / r)  # = c V mu s / r
+        f0 += g * e0
+        f1 += g * e1
+        s = r * inv_length[k] - 1.0
+        smax = max(smax, s * m)
+        if tensile and s <= 0.0:
+            continue
+        w += k0l[k] * m * s * s
+    return f0, f1, smax, w
+
+
+@_hot
+def force_sed_2d(
+    x, u, offsets, bond_j, inv_length, stiffness, intact, s0, s0_min, force, smax_out, nbroken,
+    k0l, tensile, energy,
+):  # fmt: skip
+    """:func:`force_2d` that also fills ``energy`` (n,) with the SED of seed 001 eq. 22
+    from the initial stiffness (``k0l`` = stiffness0 |xi| / 4, (n_bonds,)), in the same
+    pass over the bonds: the softening update then needs no bond loop of its own."""
+    n = x.shape[0]
+    for i in prange(n):
+        f0, f1, smax, w = _family_2d_sed(
+            i, x, u, offsets, bond_j, inv_length, stiffness, intact, k0l, tensile
+        )
+        nbroken[i] = 0
+        if smax >= s0_min[i]:
+            nb = _break_family(i, x, u, offsets, bond_j, inv_length, intact, s0)
+            if nb > 0:
+                nbroken[i] = nb
+                f0, f1, smax, w = _family_2d_sed(
+                    i, x, u, offsets, bond_j, inv_length, stiffness, intact, k0l, tensile
+                )
+        force[i, 0] = f0
+        force[i, 1] = f1
+        smax_out[i] = smax
+        energy[i] = w
+    return nbroken.sum()
+
+
 FORCE_KERNELS = {1: force_1d, 2: force_2d, 3: force_3d}
 
 

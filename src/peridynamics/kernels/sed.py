@@ -67,6 +67,30 @@ def sed_update(
     return changed
 
 
+@njit(parallel=True, fastmath=False, cache=True)
+def sed_levels(energy, w_a, w_c, n_levels, level, raised):  # pragma: no cover - compiled
+    """The level update of :func:`sed_update` from energies computed elsewhere (the
+    fused 2-D force kernel). Returns the number of points whose level rose."""
+    n = energy.shape[0]
+    changed = 0
+    for i in prange(n):
+        w = energy[i]
+        if w < w_a[i]:
+            new = 0
+        elif w < w_c[i]:
+            new = 1 + int(np.floor(n_levels * (w - w_a[i]) / (w_c[i] - w_a[i])))
+            new = min(new, n_levels)
+        else:
+            new = n_levels + 1
+        if new > level[i]:
+            level[i] = new
+            changed += 1
+            raised[i] = 1
+        else:
+            raised[i] = 0
+    return changed
+
+
 @njit(inline="always")
 def _factor(lv, n_levels, residual):
     if lv == 0:
