@@ -670,6 +670,26 @@ class Simulation:
                 "peak_time_s": float(t[k]) if len(v) else None,
                 "arrival_time_s": float(t[arrived[0]]) if arrived.size else None,
             }
+        blasts: list[dk.BlastTF] = []
+        for spec in self.deck.boundary_conditions:
+            fn = getattr(spec, "time_function", None)
+            if isinstance(fn, dk.BlastTF):
+                blasts.append(fn)
+        if blasts:  # the pressure histories the run used (Kingery-Bulmash parameters)
+            import warnings
+
+            from peridynamics.loading.blast import BlastPulse
+
+            with warnings.catch_warnings():  # already warned when the run was set up
+                warnings.simplefilter("ignore")
+                results["blast"] = [
+                    {
+                        **BlastPulse(b.charge_kg, b.standoff_m, b.shape).parameters.as_dict(),
+                        "shape": b.shape,
+                        "delay_s": b.delay,
+                    }
+                    for b in blasts
+                ]
         results["damaged_area_fraction"] = float(np.mean(damage >= 0.3))
         ke = np.asarray(r["kinetic_energy_J"])
         se = np.asarray(r["strain_energy_J"])

@@ -82,6 +82,11 @@ def test_blast_bar_period_is_the_transit_time(tmp_path, charge: int) -> None:
         check=True)  # fmt: skip
     r = json.loads((tmp_path / "summary.json").read_text())["results"]
     assert r["period_s"] == pytest.approx(1.0 / np.sqrt(193e9 / 8027), rel=0.01)
+    blast = r["blast"][0]  # the Kingery-Bulmash parameters the run used (SPEC.md 4.5.2)
+    assert blast["reflected_pressure_Pa"] == pytest.approx(
+        {1: 30.36e6, 80: 314.8e6}[charge], rel=2e-3
+    )
+    assert blast["charge_kg"] == charge and blast["standoff_m"] == 0.5
     # the two reflected pulses superpose at A: the peak is about twice P_r
     p_r = {1: 30.36e6, 80: 314.8e6}[charge]
     assert 1.5 * p_r < abs(r["probes"]["stress_A"]["peak"]) < 3.0 * p_r

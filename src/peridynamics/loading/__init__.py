@@ -1,24 +1,32 @@
 """Loading: boundary/initial conditions on node sets and their time functions."""
 
+from peridynamics.loading.blast import BlastPulse, BlastRangeWarning, kingery_bulmash
 from peridynamics.loading.conditions import (
     BodyForce,
     Fixed,
     InitialVelocity,
     PrescribedDisplacement,
     PrescribedVelocity,
+    cavity_pressure_as_body_force,
     traction_as_body_force,
 )
 from peridynamics.loading.time_functions import (
     TIME_FUNCTIONS,
     Constant,
     Ramp,
+    SinePulse,
+    SquarePulse,
     Table,
     TimeFunction,
     TriangularPulse,
 )
 
+TIME_FUNCTIONS = {**TIME_FUNCTIONS, "blast": BlastPulse}
+
 __all__ = [
     "TIME_FUNCTIONS",
+    "BlastPulse",
+    "BlastRangeWarning",
     "BodyForce",
     "Constant",
     "Fixed",
@@ -26,8 +34,12 @@ __all__ = [
     "PrescribedDisplacement",
     "PrescribedVelocity",
     "Ramp",
+    "SinePulse",
+    "SquarePulse",
     "Table",
     "TimeFunction",
     "TriangularPulse",
+    "cavity_pressure_as_body_force",
+    "kingery_bulmash",
     "traction_as_body_force",
 ]
