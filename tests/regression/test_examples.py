@@ -80,3 +80,25 @@ def test_crack_branching_paper_scale(tmp_path) -> None:
     assert 0.055 < r["branching_x_m"] < 0.08
     c_r = 0.9325 * math.sqrt(65e9 / (2 * (1 + 1 / 3)) / 2235.0)
     assert r["max_crack_tip_speed_m_per_s"] < c_r
+
+
+_DECKS = sorted(p for p in EXAMPLES.rglob("*.yaml"))
+
+
+@pytest.mark.parametrize("deck", _DECKS, ids=[str(p.relative_to(EXAMPLES)) for p in _DECKS])
+def test_every_example_deck_sets_up(deck) -> None:
+    """Every shipped deck validates and builds its model and solver (the stable-step
+    check included), whether or not another test runs it."""
+    import warnings
+
+    from peridynamics.io.deck import load_deck
+    from peridynamics.runner import Simulation
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the ring's blast is outside the fits on purpose
+        sim = Simulation.from_deck(load_deck(deck))
+    assert (
+        sim.n_steps > 0
+        and sim.solver.dt <= sim.solver.stable_time_step * (1 + 1e-12)
+        or (sim.deck.solver.allow_unstable)
+    )
