@@ -57,6 +57,19 @@ PAPER = {
 }
 
 
+def show_damage(ax, x: np.ndarray, phi: np.ndarray, spacing: float) -> None:
+    """Damage of a grid of points as an image (compact PNGs; one pixel per point)."""
+    lo = x.min(axis=0)
+    ij = np.rint((x - lo) / spacing).astype(int)
+    img = np.full(ij.max(axis=0) + 1, np.nan)
+    img[ij[:, 0], ij[:, 1]] = phi
+    hi = lo + (np.array(img.shape) - 1) * spacing
+    ext = [(lo[0] - spacing / 2) * 1e3, (hi[0] + spacing / 2) * 1e3,
+           (lo[1] - spacing / 2) * 1e3, (hi[1] + spacing / 2) * 1e3]  # fmt: skip
+    ax.imshow(img.T, origin="lower", extent=ext, cmap="jet", vmin=0, vmax=1,
+              interpolation="nearest")  # fmt: skip
+
+
 def segment_distance(x: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Distance of points (n, 2) to the segment a-b."""
     ab = b - a
@@ -136,7 +149,7 @@ def analyse(name: str, sets: list[str], every: int, out: Path, tag: str = "") ->
     fig, axes = plt.subplots(1, 4, figsize=(14, 6))
     for ax, st in zip(axes, stages, strict=True):
         i = steps.index(min(steps, key=lambda v, st=st: abs(v - st)))
-        ax.scatter(x[:, 0] * 1e3, x[:, 1] * 1e3, c=phis[i], s=0.5, cmap="jet", vmin=0, vmax=1)
+        show_damage(ax, x, phis[i], model.cloud.spacing)
         for a, b in flaws:
             ax.plot([a[0] * 1e3, b[0] * 1e3], [a[1] * 1e3, b[1] * 1e3], "w-", lw=1)
         ax.set_title(f"step {steps[i]}", fontsize=9)
@@ -161,7 +174,7 @@ def m_study(sets: list[str], out: Path, tag: str = "") -> dict:
         sim.solver.run(s, sim.n_steps)
         x, phi = sim.model.cloud.x, sim.model.point_damage(s.intact)
         res[m] = float(np.mean(phi >= 0.3))
-        ax.scatter(x[:, 0] * 1e3, x[:, 1] * 1e3, c=phi, s=0.3, cmap="jet", vmin=0, vmax=1)
+        show_damage(ax, x, phi, sim.model.cloud.spacing)
         ax.set_title(f"m = {m}: {100 * res[m]:.2f} % damaged", fontsize=9)
         ax.set_aspect("equal")
         ax.set_xticks([])
