@@ -17,6 +17,25 @@ from numba import njit, prange
 _FAST = {"nsz", "arcp", "contract", "afn", "reassoc"}
 
 
+@njit(inline="always")
+def _raise_level(i, w, w_a, w_c, n_levels, level, raised):
+    """Level of energy ``w`` (0 below w_a, 1 + floor(N (w - w_a)/(w_c - w_a)) up to N,
+    N + 1 from w_c on); raise ``level[i]`` to it if higher (irreversible), flag it in
+    ``raised``. Returns 1 if the level rose, else 0."""
+    if w < w_a[i]:
+        new = 0
+    elif w < w_c[i]:
+        new = min(1 + int(np.floor(n_levels * (w - w_a[i]) / (w_c[i] - w_a[i]))), n_levels)
+    else:
+        new = n_levels + 1
+    if new > level[i]:
+        level[i] = new
+        raised[i] = 1
+        return 1
+    raised[i] = 0
+    return 0
+
+
 @njit(parallel=True, fastmath=_FAST, error_model="numpy", cache=True)
 def sed_update(
     x, u, offsets, bond_j, length, stiffness0, intact, w_a, w_c, n_levels, residual,
@@ -51,19 +70,7 @@ def sed_update(
             w += stiffness0[k] * s * s * length[k]
         w *= 0.25
         energy[i] = w
-        if w < w_a[i]:
-            new = 0
-        elif w < w_c[i]:
-            new = 1 + int(np.floor(n_levels * (w - w_a[i]) / (w_c[i] - w_a[i])))
-            new = min(new, n_levels)
-        else:
-            new = n_levels + 1
-        if new > level[i]:
-            level[i] = new
-            changed += 1
-            raised[i] = 1
-        else:
-            raised[i] = 0
+        changed += _raise_level(i, w, w_a, w_c, n_levels, level, raised)
     return changed
 
 
@@ -74,20 +81,7 @@ def sed_levels(energy, w_a, w_c, n_levels, level, raised):  # pragma: no cover -
     n = energy.shape[0]
     changed = 0
     for i in prange(n):
-        w = energy[i]
-        if w < w_a[i]:
-            new = 0
-        elif w < w_c[i]:
-            new = 1 + int(np.floor(n_levels * (w - w_a[i]) / (w_c[i] - w_a[i])))
-            new = min(new, n_levels)
-        else:
-            new = n_levels + 1
-        if new > level[i]:
-            level[i] = new
-            changed += 1
-            raised[i] = 1
-        else:
-            raised[i] = 0
+        changed += _raise_level(i, energy[i], w_a, w_c, n_levels, level, raised)
     return changed
 
 
