@@ -183,8 +183,7 @@ class Model:
             if soft is not None:
                 changed = sed_update(
                     self.cloud.x, u, b.offsets, b.bond_j, b.bond_length, self._stiffness0,
-                    intact, self._w_a, self._w_c, soft.levels, soft.residual, self.sed_level,
-                    self.sed_factor, self.sed_energy, self.stiffness,
+                    intact, self._w_a, self._w_c, soft.levels, self.sed_level, self.sed_energy,
                     soft.energy == "tensile", self._sed_raised,
                 )  # fmt: skip
         if changed:  # the new moduli act from the next force evaluation on

@@ -62,8 +62,8 @@ def test_levels_step_exactly_at_the_thresholds() -> None:
 
     def at(w: float) -> int:
         u = np.array([[0.0, 0.0], [math.sqrt(w), 0.0]])  # s = sqrt(w) -> W = w
-        sed_update(x, u, offsets, bond_j, length, k0, intact, w_a, w_c, 4, 0.05,
-                   level, factor, energy, stiff, False, np.zeros(2, np.uint8))  # fmt: skip
+        sed_update(x, u, offsets, bond_j, length, k0, intact, w_a, w_c, 4, level, energy,
+                   False, np.zeros(2, np.uint8))  # fmt: skip
         sed_stiffness(offsets, bond_j, k0, level, 4, 0.05, factor, stiff)
         return int(level[0])
 
@@ -92,8 +92,7 @@ def test_sed_kernel_matches_numpy_twin(tensile: bool) -> None:
     energy, stiff = np.zeros(cloud.n_points), model.stiffness.copy()
     k0 = model.stiffness.copy()
     sed_update(cloud.x, u, b.offsets, b.bond_j, b.bond_length, k0, intact, w_a, w_c, 10,
-               0.05, level, factor, energy, stiff, tensile,
-               np.zeros(cloud.n_points, np.uint8))  # fmt: skip
+               level, energy, tensile, np.zeros(cloud.n_points, np.uint8))  # fmt: skip
     sed_stiffness(b.offsets, b.bond_j, k0, level, 10, 0.05, factor, stiff)
     e_ref, lev_ref, f_ref, k_ref = reference.sed_update(
         cloud.x,
@@ -270,8 +269,8 @@ def test_fused_2d_force_and_energy_equal_the_separate_passes(tensile: bool) -> N
                                     intact, s0, s0_min, f, ms, nb)  # fmt: skip
             sed_update(cloud.x, u, b.offsets, b.bond_j, b.bond_length, k0, intact,
                        np.full(cloud.n_points, 1e300), np.full(cloud.n_points, 1e300), 10,
-                       0.05, np.zeros(cloud.n_points, np.int64), np.ones(cloud.n_points),
-                       energy, k0.copy(), tensile, np.zeros(cloud.n_points, np.uint8))  # fmt: skip
+                       np.zeros(cloud.n_points, np.int64), energy, tensile,
+                       np.zeros(cloud.n_points, np.uint8))  # fmt: skip
         out[fused] = (n, f, ms, intact, energy)
     (n0, f0, m0, i0, e0), (n1, f1, m1, i1, e1) = out[False], out[True]
     assert n0 == n1 > 0 and np.array_equal(i0, i1)

@@ -38,19 +38,18 @@ def _raise_level(i, w, w_a, w_c, n_levels, level, raised):
 
 @njit(parallel=True, fastmath=_FAST, error_model="numpy", cache=True)
 def sed_update(
-    x, u, offsets, bond_j, length, stiffness0, intact, w_a, w_c, n_levels, residual,
-    level, factor, energy, stiffness, tensile_only, raised,
+    x, u, offsets, bond_j, length, stiffness0, intact, w_a, w_c, n_levels, level, energy,
+    tensile_only, raised,
 ):  # pragma: no cover - compiled  # fmt: skip
-    """Update the softening level of every point and, if any changed, the bond stiffness.
+    """Update the softening level of every point from its strain energy density.
 
     energy[i] = 1/4 sum_k stiffness0_k mu_k s_k^2 |xi_k| (J/m^3, eq. 22, initial moduli),
     over the stretched bonds only (s_k > 0) when ``tensile_only``;
     new level 0 below w_a[i], 1 + floor(N (W - w_a) / (w_c - w_a)) (at most N) in
     [w_a, w_c), N + 1 at or above w_c; level[i] = max(old, new) (irreversible).
-    ``raised`` (n,) uint8 flags the points whose level rose. ``factor``, ``residual``
-    and ``stiffness`` are unused here (kept for a uniform signature).
+    ``raised`` (n,) uint8 flags the points whose level rose.
     Returns the number of points whose level rose; the caller then rebuilds the bond
-    stiffness with :func:`sed_stiffness` (``stiffness`` is not touched here).
+    stiffness with :func:`sed_stiffness_raised`.
     """
     n, d = x.shape
     changed = 0
