@@ -1,13 +1,15 @@
-"""Reproduce the dispersion figures of seed 000 (Fig. 5) and seed 003 (Figs 2, 3, 5, 6).
+"""Reproduce the dispersion figures of Lu & Wang (2016), Fig. 5, and PD wave dispersion (n.d.).
 
 One command (from the repository root)::
 
     python examples/dispersion/make_figures.py [--out DIR] [--n-points N]
 
-writes the PNGs listed in ``README.md`` (next to this script by default) and prints the
-key numbers of SPEC.md 1.2, 4.2 and 4.3 computed from :mod:`peridynamics.analysis.dispersion`
-next to the papers' values. A last figure goes beyond the papers: the Bloch-wave
-dispersion of a patch built by the engine against the seed-003 closed form.
+writes the PNGs listed in ``README.md`` (next to this script by default; PD wave dispersion
+(n.d.), Figs 2, 3, 5, 6) and prints the key numbers computed from
+:mod:`peridynamics.analysis.dispersion` next to reference values computed independently
+from the papers' equations (the papers show them only as figures; full references in
+docs/references.md). A last figure goes beyond the papers: the Bloch-wave dispersion of a
+patch built by the engine against the closed form of PD wave dispersion (n.d.).
 """
 
 from __future__ import annotations
@@ -39,10 +41,10 @@ from peridynamics.model import Model  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 
-#: seed 000, Fig. 5 (biotite granite)
+#: Lu & Wang (2016), Fig. 5 (biotite granite)
 E, RHO = 20e9, 2620.0
 C = math.sqrt(E / RHO)  # bar speed, 2762.9 m/s
-#: seed 003: delta = 3.015 h
+#: PD wave dispersion (n.d.): delta = 3.015 h
 M003 = 3.015
 THETAS = (0.0, 30.0, 45.0)
 
@@ -58,7 +60,7 @@ FIGURES = (
     "bloch_vs_closed_form.png",
 )
 
-#: the papers' values as quoted in SPEC.md (used only to print the comparison)
+#: reference values computed from the papers' equations (used only to print the comparison)
 PAPER_1D = {0.0: 1.14896, 0.2: 0.78270, 0.25: 0.64508, 0.5: 0.34481, 1.0: 0.0, 1.5: 0.11494}
 PAPER_2D = {
     0.0: (0.81528, 0.39279, 0.0, 0.13093),
@@ -83,7 +85,7 @@ def _save(fig: plt.Figure, out_dir: Path, name: str) -> Path:
 
 
 def _f_hz(k: np.ndarray, dx: float, m: int, dt: float) -> np.ndarray:
-    """Seed 000 eq. 12: f = omega / (2 pi) in Hz (NaN where unstable)."""
+    """Lu & Wang (2016), eq. 12: f = omega / (2 pi) in Hz (NaN where unstable)."""
     return dsp.fully_discrete_1d(k, dx, m, dt, E, RHO) / (2.0 * np.pi)
 
 
@@ -114,9 +116,9 @@ def _high_band(ax: plt.Axes) -> None:
     )
 
 
-# ------------------------------------------------------------------ seed 000, Fig. 5
+# --------------------------------------------------------- Lu & Wang (2016), Fig. 5
 def seed000_fig5(out_dir: Path, n: int) -> list[Path]:
-    """The four panels of seed 000 Fig. 5 (eq. 12), one PNG each."""
+    """The four panels of Lu & Wang (2016), Fig. 5 (eq. 12), one PNG each."""
     paths = []
     us = 1e-6
 
@@ -180,16 +182,18 @@ def seed000_fig5(out_dir: Path, n: int) -> list[Path]:
     return paths
 
 
-# ---------------------------------------------------------------- seed 003, 1-D
+# -------------------------------------------------------- PD wave dispersion (n.d.), 1-D
 def critical_point_1d() -> float:
-    """N_h where the seed-003 1-D phase velocity crosses the local value v/v0 = 1."""
+    """N_h where the 1-D phase velocity of PD wave dispersion (n.d.) crosses the local value
+    v/v0 = 1."""
     return float(
         brentq(lambda x: dsp.semi_discrete_1d([x], M003).v_over_v0[0] - 1.0, 0.05, 0.2, xtol=1e-14)
     )
 
 
 def omega_max_1d() -> tuple[float, float]:
-    """(N_h, omega/omega0) at the maximum of the seed-003 1-D frequency in (0, 1)."""
+    """(N_h, omega/omega0) at the maximum of the 1-D frequency of PD wave dispersion (n.d.) in
+    (0, 1)."""
     r = minimize_scalar(
         lambda x: -dsp.semi_discrete_1d([x], M003).omega_over_omega0[0],
         bounds=(0.3, 0.7),
@@ -273,7 +277,7 @@ def seed003_fig3(out_dir: Path, n: int) -> Path:
     return _save(fig, out_dir, "seed003_fig3.png")
 
 
-# ---------------------------------------------------------------- seed 003, 2-D
+# -------------------------------------------------------- PD wave dispersion (n.d.), 2-D
 def seed003_fig5(out_dir: Path, n: int) -> Path:
     nh = np.linspace(0.0, 2.0, n)
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
@@ -356,7 +360,8 @@ def _diagonal_branches(model: Model, point: int, kx: np.ndarray) -> np.ndarray:
 
 
 def bloch_comparison(n: int, h: float = 1e-3) -> dict:
-    """v/v0 along theta = 0 from the engine's bond lists and from seed 003 eq. 32."""
+    """v/v0 along theta = 0 from the engine's bond lists and from PD wave dispersion (n.d.),
+    eq. 32."""
     nh = np.linspace(0.0, 2.0, n)[1:]  # v = omega/kappa: skip kappa = 0
     kappa = 2.0 * np.pi * nh / h
     kv = np.column_stack([kappa, np.zeros_like(kappa)])
@@ -435,7 +440,8 @@ def bloch_figure(out_dir: Path, n: int) -> tuple[Path, dict]:
 
 # ------------------------------------------------------------------- the numbers
 def key_numbers(n: int = 2001) -> list[tuple[str, float, float | None, float]]:
-    """(label, computed, paper value or None, tolerance for 'match') of SPEC.md 1.2/4.2/4.3."""
+    """(label, computed, paper value or None, tolerance for 'match'): the key numbers of
+    Lu & Wang (2016), section 2, and PD wave dispersion (n.d.), section 2."""
     rows: list[tuple[str, float, float | None, float]] = []
     tol5 = 6e-6  # the papers print 5 decimals
     d = dsp.semi_discrete_1d(list(PAPER_1D), M003)

@@ -1,4 +1,4 @@
-"""Seed 001 flawed specimens: damage maps at several load steps, crack initiation at
+"""SED-PD (2021) flawed specimens: damage maps at several load steps, crack initiation at
 the flaw tips (step, position, direction) and, for two flaws, the coalescence steps.
 
     python examples/rock_compression/analyse.py [--decks flaw30_m10 flaw45 flaw60
@@ -164,7 +164,7 @@ def analyse(name: str, sets: list[str], every: int, out: Path, tag: str = "") ->
 
 
 def m_study(sets: list[str], out: Path, tag: str = "") -> dict:
-    """Final damage of flaw30_m<M> for the six Weibull moduli (seed 001 section 3.2)."""
+    """Final damage of flaw30_m<M> for the six Weibull moduli (SED-PD (2021), section 3.2)."""
     shapes = (2, 6, 10, 20, 50, 100)
     fig, axes = plt.subplots(1, 6, figsize=(16, 5.5))
     res = {}

@@ -1,4 +1,4 @@
-"""Seed 000 Figs 7 and 8 (rock-bar waves and spalling) with one command.
+"""Lu & Wang (2016), Figs 7 and 8 (rock-bar waves and spalling) with one command.
 
     python examples/spalling/make_figures.py [--out DIR]
 

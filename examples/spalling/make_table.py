@@ -1,4 +1,4 @@
-"""Seed 000 Table 1 (rock-bar spalling): run the seven decks and write the comparison.
+"""Lu & Wang (2016), Table 1 (rock-bar spalling): run the seven decks and write the comparison.
 
     python examples/spalling/make_table.py            # runs the 7 cases, rewrites README.md
 
@@ -25,7 +25,8 @@ except ImportError:  # running from a checkout without installing
 from peridynamics.io.deck import load_deck  # noqa: E402
 from peridynamics.runner import Simulation  # noqa: E402
 
-#: seed 000 Table 1: case -> (m, dx (m), p_m (MPa), t0 (ms), dt (us), x_F range (m), t_F (ms))
+#: Lu & Wang (2016), Table 1:
+#: case -> (m, dx (m), p_m (MPa), t0 (ms), dt (us), x_F range (m), t_F (ms))
 PAPER = {
     1: (3, 0.0010, 12, 0.12, 0.10, (0.906, 0.909), 0.4395),
     2: (5, 0.0010, 12, 0.12, 0.10, (0.901, 0.908), 0.4399),

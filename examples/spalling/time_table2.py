@@ -1,4 +1,4 @@
-"""Seed 000 Table 2: fracture time, position and wall time of PD3, PD1->PD3, FDM->PD3,
+"""Lu & Wang (2016), Table 2: fracture time, position and wall time of PD3, PD1->PD3, FDM->PD3,
 all measured in one process (median of repeated runs of each time loop).
 
     python examples/spalling/time_table2.py [--repeats 5] [--spacing 0.01]

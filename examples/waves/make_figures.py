@@ -1,4 +1,4 @@
-"""Seed 003 figures and the pulse table of examples/waves/README.md.
+"""PD wave dispersion (n.d.) figures and the pulse table of examples/waves/README.md.
 
     python examples/waves/make_figures.py [--out DIR] [--no-readme]
 

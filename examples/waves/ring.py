@@ -1,12 +1,12 @@
-"""Seed 003 Fig. 21: pressure in a ring under an internal blast, plain PD vs polynomial
-viscosity vs the axisymmetric reference solution, and the anisotropy index.
+"""PD wave dispersion (n.d.), Fig. 21: pressure in a ring under an internal blast, plain PD
+vs polynomial viscosity vs the axisymmetric reference solution, and the anisotropy index.
 
     python examples/waves/ring.py [--out DIR] [--spacing H] [--b1 0.2 --b2 2.0]
 
 The anisotropy index is the spread of the peak pressure (over time) around the circle
 r = 0.225 m: max / min over the points within h/2 of that radius. A perfectly
 axisymmetric response gives 1; the square lattice of plain PD gives a pattern with
-45-degree symmetry (seed 003 section 4.5.3). Because those points lie at slightly
+45-degree symmetry (PD wave dispersion (n.d.), section 4.2). Because those points lie at slightly
 different radii and the peak decays with r, a second index divides out a power law in
 r fitted to the same points first.
 """

@@ -1,8 +1,23 @@
 """The model evaluator: owns the physics order of one force evaluation.
 
-Order (ARCHITECTURE.md): damage (bond breaking) -> bond forces -> external loads.
-Solvers never compute physics; they call :meth:`Model.internal_force` and
-:meth:`Model.external_force`.
+A :class:`Model` composes a force model (one model family, :mod:`peridynamics.models`)
+with a damage law, the optional extras and the external loads, and is the one place
+that calls their kernels and the communicator. The order of one evaluation
+(:meth:`Model.evaluate`) is:
+
+1. damage: the law's trial and commit (only when the solver commits at this
+   evaluation: every step in explicit dynamics, never inside a dynamic-relaxation or
+   Newton iteration);
+2. the force model's pre-pass (per-point reductions such as the LPS dilatation; the
+   halo exchange of what the force pass reads goes here in distributed runs);
+3. the force model's pure force pass;
+4. SED softening levels (committed with the damage), their new bond stiffness acting
+   from the next evaluation on;
+5. contact; 6. mass damping; 7. viscous bond forces.
+
+External loads are filled separately by :meth:`Model.external_force`. For PMB with a
+committing critical-stretch law, steps 1 and 3 (and in 2-D the SED energy of step 4)
+run as one pass over the bonds, which gives the same bits as the separate calls.
 """
 
 from __future__ import annotations
@@ -12,61 +27,60 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds
-from peridynamics.bonds.surface import energy_correction_factors
-from peridynamics.damage.critical_stretch import NO_DAMAGE, CriticalStretch, family_minimum
+from peridynamics.damage.critical_stretch import NO_DAMAGE, CriticalStretch, CriticalStretchLaw
 from peridynamics.damage.sed import SEDSoftening
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import bond_based
-from peridynamics.kernels.sed import (
-    sed_levels,
-    sed_stiffness,
-    sed_stiffness_raised,
-    sed_update,
-)
 from peridynamics.kernels.viscous import add_viscous_force
 from peridynamics.loading.conditions import BodyForce
-from peridynamics.materials.bond_based import BondBasedMaterial
 from peridynamics.materials.viscosity import BondViscosity
-
-#: uniaxial strain of the surface-correction calibration: small, so that the geometric
-#: nonlinearity of the stretch (relative O(strain)) does not bias the factors
-_CALIBRATION_STRAIN = 1e-6
+from peridynamics.models.base import DamageLaw, ForceModel
+from peridynamics.models.pmb import PMBForceModel
+from peridynamics.models.softening import SoftenedStiffness
+from peridynamics.parallel.communicator import SERIAL, Communicator
+from peridynamics.state import State
 
 
 @dataclass
 class Model:
-    """Bond-based peridynamic model of one body.
+    """A peridynamic body: force model + damage law + extras + loads.
 
     Parameters
     ----------
     cloud : PointCloud
     bonds : Bonds
-    material : BondBasedMaterial
+    material : object with ``force_model(cloud, bonds, surface_correction)``
+        :class:`~peridynamics.materials.bond_based.BondBasedMaterial` (PMB) or
+        :class:`~peridynamics.materials.lps.LPSMaterial` (LPS); its ``youngs_modulus``
+        and ``density`` are read by the extras.
     damage : CriticalStretch
         ``NO_DAMAGE`` keeps every bond.
     body_forces : sequence of BodyForce
         Force-like loads (body forces, tractions spread over a layer).
     surface_correction : bool
-        Apply the energy-method surface correction (Madenci & Oterkus 2014).
+        Apply the force model's surface correction (PMB: the energy method of Madenci &
+        Oterkus 2014).
     viscosity : BondViscosity, optional
-        Viscous bond forces (seed 003 eqs 52-56) evaluated from the velocity passed to
-        :meth:`internal_force`; ``None`` or both coefficients 0 is plain PD.
+        Viscous bond forces (Zhou et al. 2021? see docs/references.md) from the velocity
+        of the State; ``None`` or both coefficients 0 is plain PD.
     softening : SEDSoftening, optional
-        Strain-energy-density softening of the point moduli (seed 001 eqs 18-24),
-        updated at every force evaluation before the bond forces.
+        Strain-energy-density softening of the bond stiffness (PMB only).
     contact : object with ``add_force(u, intact, force)``, optional
         Short-range contact between points not joined by an intact bond.
     damping : float
         Mass-proportional damping coefficient c_d (1/s): adds -rho c_d v to the force
         density (local damping for quasi-static runs by explicit dynamics).
+    comm : Communicator
+        Global reductions (serial by default).
     """
 
     cloud: PointCloud
     bonds: Bonds
-    material: BondBasedMaterial
+    material: Any
     damage: CriticalStretch = NO_DAMAGE
     body_forces: Sequence[BodyForce] = ()
     surface_correction: bool = False
@@ -74,44 +88,31 @@ class Model:
     softening: SEDSoftening | None = None
     contact: Any = None
     damping: float = 0.0
-    stiffness: NDArray[np.float64] = field(init=False, repr=False)
-    point_s0: NDArray[np.float64] = field(init=False, repr=False)
-    family_s0_min: NDArray[np.float64] = field(init=False, repr=False)
+    comm: Communicator = SERIAL
+    force_model: ForceModel = field(init=False, repr=False)
+    damage_law: DamageLaw = field(init=False, repr=False)
     density: NDArray[np.float64] = field(init=False, repr=False)
-    inv_length: NDArray[np.float64] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         c = self.cloud
-        if self.surface_correction:
-            raw = self.material.bond_stiffness(c, self.bonds, corrected=False)
-            w_inf = self.material.uniaxial_energy_density(
-                _CALIBRATION_STRAIN, c.dim, self.bonds.horizon, c.cross_section, c.plane
-            )
-            factors = energy_correction_factors(c.x, self.bonds, raw, w_inf, _CALIBRATION_STRAIN)
-            self.bonds = self.bonds.with_correction(factors)
-        self.stiffness = self.material.bond_stiffness(c, self.bonds)
+        self.force_model = self.material.force_model(c, self.bonds, self.surface_correction)
+        self.bonds = self.force_model.bonds  # with the surface-correction factors
+        law = CriticalStretchLaw(self.damage, c.x, self.bonds)
+        self.damage_law = law
         self.inv_length = 1.0 / self.bonds.bond_length
-        self._broken_scratch = np.zeros(c.n_points, dtype=np.int64)
-        self.point_s0 = self.damage.point_threshold(c.n_points)
-        self.family_s0_min = family_minimum(self.bonds, self.point_s0)
         self.density = np.full(c.n_points, self.material.density)
-        self._force_kernel = bond_based.FORCE_KERNELS[c.dim]
         if not (np.isfinite(self.damping) and self.damping >= 0):
             raise ValueError(f"damping must be >= 0 (1/s), got {self.damping}")
+        self._sed: SoftenedStiffness | None = None
         if self.softening is not None:
-            self._stiffness0 = self.stiffness.copy()
-            self.stiffness = self.stiffness.copy()
-            w_a, w_c = self.softening.thresholds(self.material.youngs_modulus, self.point_s0)
-            # no-fail points (s0 = inf) never soften: a finite sentinel keeps the kernel's
-            # arithmetic free of infinities
-            self._w_a = np.where(np.isfinite(w_a), w_a, 1e300)
-            self._w_c = np.where(np.isfinite(w_c), w_c, 1e300)
-            self.sed_level = np.zeros(c.n_points, dtype=np.int64)
-            self.sed_factor = np.ones(c.n_points)
-            self.sed_energy = np.zeros(c.n_points)
-            self._sed_raised = np.zeros(c.n_points, dtype=np.uint8)
-            self._k0l = 0.25 * self._stiffness0 * self.bonds.bond_length
-            self._reverse = self.bonds.reverse_index()
+            if not isinstance(self.force_model, PMBForceModel):
+                raise ValueError(
+                    "damage.sed_softening softens bond stiffness and needs material.model "
+                    f"'pmb' (got {self.force_model.name!r})"
+                )
+            self._sed = SoftenedStiffness(
+                self.softening, self.force_model, self.material.youngs_modulus, self.point_s0
+            )
         self._viscous: tuple[float, float] | None = None
         if self.viscosity is not None and self.viscosity.active:
             self._viscous = self.viscosity.coefficients(
@@ -132,6 +133,120 @@ class Model:
         """Number of points."""
         return self.cloud.n_points
 
+    @property
+    def point_s0(self) -> NDArray[np.float64]:
+        """Critical stretch per point (n,) of the critical-stretch law (inf: never)."""
+        return self._critical_law().point_s0
+
+    @point_s0.setter
+    def point_s0(self, value: NDArray[np.float64]) -> None:
+        self._critical_law().point_s0 = value
+
+    @property
+    def family_s0_min(self) -> NDArray[np.float64]:
+        """Smallest bond threshold of each family (n,)."""
+        return self._critical_law().family_s0_min
+
+    @family_s0_min.setter
+    def family_s0_min(self, value: NDArray[np.float64]) -> None:
+        self._critical_law().family_s0_min = value
+
+    def _critical_law(self) -> CriticalStretchLaw:
+        law = self.damage_law
+        if not isinstance(law, CriticalStretchLaw):
+            raise AttributeError(f"the damage law {law.name!r} has no critical stretch")
+        return law
+
+    @property
+    def stiffness(self) -> NDArray[np.float64]:
+        """Bond stiffness (N/m^6 m^3) of a bond-based force model (raises otherwise)."""
+        k = getattr(self.force_model, "stiffness", None)
+        if k is None:
+            raise AttributeError(f"the {self.force_model.name!r} model has no bond stiffness")
+        return k
+
+    # -- state -------------------------------------------------------------------------
+    def new_state(self) -> State:
+        """A State at rest with every field the model needs (bonds as built, levels 0)."""
+        n, d = self.n_points, self.dim
+        s = State(
+            u=np.zeros((n, d)),
+            v=np.zeros((n, d)),
+            force=np.zeros((n, d)),
+            body=np.zeros((n, d)),
+            u_prev=np.zeros((n, d)),
+            intact=self.bonds.bond_intact.copy(),
+            max_stretch=np.zeros(n),
+        )
+        for spec in self.force_model.state_fields():
+            rows = n if spec.where == "point" else self.bonds.n_bonds
+            shape = (rows, spec.components) if spec.components else (rows,)
+            s[spec.name] = np.zeros(shape, dtype=spec.dtype)
+        if self._sed is not None:
+            s["sed_level"] = np.zeros(n, dtype=np.int64)
+        return s
+
+    def on_restore(self, state: State) -> None:
+        """Rebuild what follows from history fields after a checkpoint was read."""
+        if self._sed is not None:
+            if "sed_level" not in state or state["sed_level"].shape != (self.n_points,):
+                raise ValueError("the checkpoint has no SED softening levels for this model")
+            self._sed.restore(state)
+        self.force_model.on_restore(state)
+
+    # -- evaluation --------------------------------------------------------------------
+    def evaluate(self, state: State, commit: bool = True) -> int:
+        """Fill ``state.force`` with the internal force density (N/m^3) at ``state.u``
+        (velocity-dependent parts from ``state.v``), in the order of the module
+        docstring. With ``commit`` the damage law's trial is committed first (and SED
+        levels rise); without it the evaluation is pure. Returns the number of directed
+        bonds broken (also added to ``state.bonds_broken``)."""
+        fm, law, sed = self.force_model, self.damage_law, self._sed
+        broken = 0
+        energy_done = False
+        fused = isinstance(fm, PMBForceModel) and fm.fused_breaking
+        if commit and fused and isinstance(law, CriticalStretchLaw):
+            if sed is not None and self.dim == 2:  # forces and SED energy in one pass
+                broken = fm.force_sed_and_break(
+                    state, law.point_s0, law.family_s0_min, sed.k0l, sed.tensile, sed.energy
+                )
+                energy_done = True
+            else:
+                broken = fm.force_and_break(state, law.point_s0, law.family_s0_min)
+            state.bonds_broken += broken
+        else:
+            if commit and law.active:
+                law.trial(state)
+                broken = law.commit(state)
+            fm.prepass(state)
+            fm.force(state)
+        if sed is not None and commit:
+            sed.update(state, energy_computed=energy_done)
+        self._extras(state)
+        return broken
+
+    def _extras(self, state: State) -> None:
+        """Contact, mass damping and viscous bond forces, added to ``state.force``."""
+        if self.contact is not None:
+            self.contact.add_force(state.u, state.intact, state.force)
+        if self.damping > 0:
+            state.force -= (self.damping * self.density)[:, None] * state.v
+        if self._viscous is not None:
+            b = self.bonds
+            add_viscous_force(
+                self.cloud.x, state.u, state.v, b.offsets, b.bond_j, self.inv_length,
+                b.bond_volume, state.intact, self._viscous[0], self._viscous[1], state.force,
+            )  # fmt: skip
+
+    def commit_damage(self, state: State) -> int:
+        """Trial and commit of the damage law (and SED levels) at ``state.u``: what a
+        static solver does on an accepted load step. Returns the bonds broken."""
+        self.damage_law.trial(state)
+        broken = self.damage_law.commit(state)
+        if self._sed is not None:
+            self._sed.update(state)
+        return broken
+
     def internal_force(
         self,
         u: NDArray,
@@ -140,93 +255,44 @@ class Model:
         max_stretch: NDArray,
         v: NDArray | None = None,
     ) -> int:
-        """Break bonds, then fill ``force`` (n, dim) with the bond force density (N/m^3).
+        """:meth:`evaluate` with commit on bare arrays (a convenience for scripts and tests
+        of displacement-only models; solvers pass a State). ``intact`` is updated in
+        place. Models with history fields (SED softening) need :meth:`evaluate`."""
+        if self._sed is not None:
+            raise ValueError("a model with SED softening keeps its levels in a State: use evaluate")
+        if self._viscous is not None and v is None:
+            raise ValueError("a model with viscosity needs the velocity v in internal_force")
+        s = State(
+            u=u,
+            v=np.zeros_like(u) if v is None else v,
+            force=force,
+            intact=intact,
+            max_stretch=max_stretch,
+        )
+        for spec in self.force_model.state_fields():
+            n = len(u) if spec.where == "point" else len(intact)
+            s[spec.name] = np.zeros((n, spec.components) if spec.components else n)
+        return self.evaluate(s, commit=True)
 
-        ``intact`` (n_bonds,) is updated in place; ``max_stretch`` (n,) receives the
-        largest tensile stretch of an intact bond per point (0 if none is stretched).
-        ``v`` (n, dim) is the velocity the viscous forces use (required when the model
-        has viscosity; ignored otherwise). Returns the number of directed bonds broken.
-        """
-        b = self.bonds
-        soft = self.softening
-        if soft is not None and self.dim == 2:  # forces and SED energy in one pass
-            broken = int(
-                bond_based.force_sed_2d(
-                    self.cloud.x, u, b.offsets, b.bond_j, self.inv_length, self.stiffness,
-                    intact, self.point_s0, self.family_s0_min, force, max_stretch,
-                    self._broken_scratch, self._k0l, soft.energy == "tensile",
-                    self.sed_energy,
-                )
-            )  # fmt: skip
-            changed = sed_levels(
-                self.sed_energy, self._w_a, self._w_c, soft.levels, self.sed_level,
-                self._sed_raised,
-            )  # fmt: skip
-        else:
-            broken = int(
-                self._force_kernel(
-                    self.cloud.x,
-                    u,
-                    b.offsets,
-                    b.bond_j,
-                    self.inv_length,
-                    self.stiffness,
-                    intact,
-                    self.point_s0,
-                    self.family_s0_min,
-                    force,
-                    max_stretch,
-                    self._broken_scratch,
-                )
-            )
-            changed = 0
-            if soft is not None:
-                changed = sed_update(
-                    self.cloud.x, u, b.offsets, b.bond_j, b.bond_length, self._stiffness0,
-                    intact, self._w_a, self._w_c, soft.levels, self.sed_level, self.sed_energy,
-                    soft.energy == "tensile", self._sed_raised,
-                )  # fmt: skip
-        if changed:  # the new moduli act from the next force evaluation on
-            assert soft is not None
-            sed_stiffness_raised(
-                b.offsets, b.bond_j, self._reverse, self._stiffness0, self.sed_level,
-                soft.levels, soft.residual, self.sed_factor, self.stiffness,
-                self._sed_raised,
-            )  # fmt: skip
-        if self.contact is not None:
-            self.contact.add_force(u, intact, force)
-        if self.damping > 0 and v is not None:
-            force -= (self.damping * self.density)[:, None] * v
-        if self._viscous is not None:
-            if v is None:
-                raise ValueError("a model with viscosity needs the velocity v in internal_force")
-            add_viscous_force(
-                self.cloud.x, u, v, b.offsets, b.bond_j, self.inv_length, b.bond_volume,
-                intact, self._viscous[0], self._viscous[1], force,
-            )  # fmt: skip
-        return broken
+    def force_of(self, u: NDArray, intact: NDArray[np.uint8] | None = None) -> NDArray:
+        """Pure internal force density (N/m^3) at displacement ``u`` (no damage), a new
+        (n, dim) array: for oracles and tangents."""
+        s = self.new_state()
+        s.u[...] = u
+        if intact is not None:
+            s.intact[...] = intact
+        self.evaluate(s, commit=False)
+        return s.force.copy()
 
-    def history_arrays(self) -> dict[str, NDArray]:
-        """History variables kept in the model (for checkpoints): the SED levels."""
-        return {} if self.softening is None else {"sed_level": self.sed_level.copy()}
+    def tangent(self, state: State) -> sp.csr_matrix:
+        """Tangent K = -d(V f)/du (N/m), shape (n dim, n dim): the force model's analytic
+        one, else the finite-difference tangent."""
+        k = self.force_model.tangent(state)
+        if k is None:
+            from peridynamics.models.tangent import finite_difference_tangent
 
-    def restore_history(self, arrays: dict[str, NDArray]) -> None:
-        """Restore :meth:`history_arrays` (and the moduli that follow from them)."""
-        if self.softening is None:
-            return
-        if "sed_level" not in arrays or arrays["sed_level"].shape != self.sed_level.shape:
-            raise ValueError("the checkpoint has no SED softening levels for this model")
-        self.sed_level[:] = arrays["sed_level"]
-        self._sed_stiffness()
-
-    def _sed_stiffness(self) -> None:
-        """Point factors and bond stiffness from the SED levels (eq. 24)."""
-        assert self.softening is not None
-        b = self.bonds
-        sed_stiffness(
-            b.offsets, b.bond_j, self._stiffness0, self.sed_level, self.softening.levels,
-            self.softening.residual, self.sed_factor, self.stiffness,
-        )  # fmt: skip
+            k = finite_difference_tangent(self.force_model, state)
+        return k
 
     def viscous_power(self, u: NDArray, v: NDArray, intact: NDArray[np.uint8]) -> float:
         """Power of the viscous forces sum_i V_i F_visc_i . v_i (W); never positive. 0 for
@@ -250,23 +316,25 @@ class Model:
             load.add_to(out, t)
 
     def strain_energy_density(self, u: NDArray, intact: NDArray[np.uint8]) -> NDArray:
-        """W_i (J/m^3), shape (n,)."""
-        b = self.bonds
-        out = np.empty(self.n_points)
-        bond_based.strain_energy_density(
-            self.cloud.x, u, b.offsets, b.bond_j, b.bond_length, self.stiffness, intact, out
-        )
-        return out
+        """W_i (J/m^3), shape (n,), of the force model (pre-pass included)."""
+        s = State(u=u, intact=intact)
+        for spec in self.force_model.state_fields():
+            n = len(u) if spec.where == "point" else len(intact)
+            s[spec.name] = np.zeros((n, spec.components) if spec.components else n)
+        self.force_model.prepass(s)
+        return self.force_model.energy_density(s)
 
     def strain_energy(self, u: NDArray, intact: NDArray[np.uint8]) -> float:
-        """Total strain energy sum W_i V_i (J)."""
+        """Total strain energy sum W_i V_i (J), reduced over ranks."""
         # np.sum, not @: a BLAS dot can wake OpenBLAS threads that then spin against
         # Numba's workers and slow the next force evaluations
-        return float(np.sum(self.strain_energy_density(u, intact) * self.cloud.volume))
+        local = float(np.sum(self.strain_energy_density(u, intact) * self.cloud.volume))
+        return self.comm.sum(local)
 
     def kinetic_energy(self, v: NDArray) -> float:
-        """Total kinetic energy 1/2 sum rho_i V_i |v_i|^2 (J)."""
-        return float(0.5 * np.sum(self.density * self.cloud.volume * np.sum(v * v, axis=1)))
+        """Total kinetic energy 1/2 sum rho_i V_i |v_i|^2 (J), reduced over ranks."""
+        local = float(0.5 * np.sum(self.density * self.cloud.volume * np.sum(v * v, axis=1)))
+        return self.comm.sum(local)
 
     def point_damage(self, intact: NDArray[np.uint8]) -> NDArray:
         """Local damage phi (seed 000 eq. 7), shape (n,)."""
@@ -311,6 +379,22 @@ class Model:
         """Mean compressive stress -tr(sigma) / dim of each point, shape (n,) (Pa)."""
         return -np.trace(self.point_stress(u, intact), axis1=1, axis2=2) / self.dim
 
+    def stiffness_bound(self) -> NDArray[np.float64]:
+        """Per-point stiffness bound K_i of the force model (N/m^5), shape (n,)."""
+        return self.force_model.stiffness_bound()
+
+    def _elastic_bond_stiffness(self) -> NDArray[np.float64]:
+        """Bond stiffness of a bond-based model, or the PMB-equivalent micromodulus times
+        the partial volume for other families (viscous rate constant, contact)."""
+        k = getattr(self.force_model, "stiffness", None)
+        if k is not None:
+            return np.asarray(k)
+        c = self.cloud
+        c0 = self.material.micromodulus_constant(
+            c.dim, self.bonds.horizon, c.cross_section, c.plane
+        )
+        return c0 * self.bonds.bond_volume
+
     def stable_time_step(self) -> float:
         """Largest stable explicit step, min over points of Silling & Askari's bound (s).
 
@@ -320,14 +404,14 @@ class Model:
         ratio of viscous to elastic bond coefficient (the 1-D rate constant of seed 003
         eq. 39). The quadratic term depends on the amplitude and is not included.
         """
-        out = np.empty(self.n_points)
-        bond_based.stable_time_step_per_point(
-            self.bonds.offsets, self.bonds.bond_length, self.stiffness, self.density, out
-        )
-        dt = float(out.min())
+        bound = self.stiffness_bound()
+        with np.errstate(divide="ignore"):
+            per_point = np.where(bound > 0, np.sqrt(2.0 * self.density / bound), np.inf)
+        dt = self.comm.min(float(per_point.min()))
         if self._viscous is not None and self._viscous[0] > 0:
-            ok = self.stiffness > 0
-            ratio = self.bonds.bond_volume[ok] / self.stiffness[ok]
+            k = self._elastic_bond_stiffness()
+            ok = k > 0
+            ratio = self.bonds.bond_volume[ok] / k[ok]
             gamma = float(self._viscous[0] * ratio.max())
             xi = gamma / dt
             dt *= np.sqrt(1.0 + xi * xi) - xi

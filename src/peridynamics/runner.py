@@ -9,42 +9,36 @@ from __future__ import annotations
 
 import hashlib
 import json
-import os
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from peridynamics.analysis.crack import branching, crack_tip, tip_speed
-from peridynamics.analysis.waves import dominant_period, pulse_comparison
 from peridynamics.bonds import build_bonds, make_crack
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.damage import NO_DAMAGE, CriticalStretch, SEDSoftening, WeibullField
 from peridynamics.geometry import PointCloud, bar, box, cylinder, from_mesh, rectangle
 from peridynamics.io import deck as dk
-from peridynamics.io.checkpoint import read_checkpoint, write_checkpoint
-from peridynamics.io.plots import plot_damage, plot_histories
+from peridynamics.io.checkpoint import read_checkpoint
+from peridynamics.io.observers import Observer, RunContext, VTKFrames, new_records, observers_for
 from peridynamics.io.regions import to_region
 from peridynamics.io.summary import write_summary
-from peridynamics.io.vtk import write_pvd, write_vtu
 from peridynamics.loading import conditions as bc
 from peridynamics.loading import time_functions as tf
 from peridynamics.materials import MATERIALS
 from peridynamics.materials.viscosity import BondViscosity
 from peridynamics.model import Model
+from peridynamics.solvers.base import Solver
 from peridynamics.solvers.explicit import ExplicitSolver, SimulationUnstable
 from peridynamics.solvers.fdm import FDMModel1D
 from peridynamics.solvers.hybrid import HybridSolver, SwitchAtStretch
-from peridynamics.solvers.state import State
+from peridynamics.state import State
 
 COMP = {"x": 0, "y": 1, "z": 2}
-#: Tests set PERIDYNAMICS_CRASH_AT_STEP to kill the process (exit 137, no clean-up) at a
-#: given step, a deterministic stand-in for a power cut; unset in normal use.
-_CRASH_AT_STEP = int(os.environ.get("PERIDYNAMICS_CRASH_AT_STEP", "-1"))
 
 
 class SetupError(ValueError):
@@ -138,6 +132,8 @@ def _solver_options(s: dk.Solver, kin: list, init: list, time_step: float | None
         blowup_factor=s.blowup_factor,
         max_stretch=s.max_stretch,
         check_every=s.check_every,
+        steps=s.steps,
+        end_time=s.end_time,
     )
 
 
@@ -145,8 +141,9 @@ def _hybrid_solver(
     deck: dk.Deck, cloud: PointCloud, second: Model, body: list, kin: list, init: list
 ) -> HybridSolver:
     """The first (cheap) model and the hybrid solver around it and the deck's model."""
-    s, h = deck.solver, deck.solver.hybrid
-    assert h is not None
+    s = deck.solver
+    assert isinstance(s, dk.Solver) and s.hybrid is not None
+    h = s.hybrid
     material = second.material
     first: Model
     if h.first == "fdm":
@@ -163,6 +160,39 @@ def _hybrid_solver(
         ExplicitSolver(first, **common),
         ExplicitSolver(second, **common),
         SwitchAtStretch(h.switch_fraction),
+    )
+
+
+def build_solver(
+    deck: dk.Deck, cloud: PointCloud, model: Model, body: list, kin: list, init: list
+) -> Solver:
+    """The deck's solver section -> a solver (registry: ``solver.type``)."""
+    s = deck.solver
+    try:
+        if isinstance(s, dk.Solver):
+            if s.hybrid is not None:
+                return _hybrid_solver(deck, cloud, model, body, kin, init)
+            return ExplicitSolver(model, **_solver_options(s, kin, init, s.time_step))
+        return build_adr(s, model, kin, init)
+    except ValueError as exc:
+        raise SetupError(f"solver.{'time_step' if isinstance(s, dk.Solver) else 'type'}",
+                         str(exc)) from None  # fmt: skip
+
+
+def build_adr(s: Any, model: Model, kin: list, init: list) -> Solver:
+    """Adaptive dynamic relaxation from ``solver: {type: adr, ...}``."""
+    from peridynamics.solvers.adr import ADRSolver
+
+    if init:
+        raise ValueError("initial velocities have no meaning in a static (adr) run")
+    return ADRSolver(
+        model,
+        constraints=kin,
+        load_steps=s.load_steps,
+        tolerance=s.tolerance,
+        max_iterations=s.max_iterations,
+        proportional=s.proportional,
+        max_damage_rounds=s.max_damage_rounds,
     )
 
 
@@ -276,12 +306,23 @@ def build_bonds_for(deck: dk.Deck, cloud: PointCloud) -> Bonds:
         raise SetupError("discretisation", str(exc)) from None
 
 
+def build_material(m: Any) -> Any:
+    """The deck's material section -> a material of its model family (registry
+    :data:`peridynamics.materials.MATERIALS`, keyed by ``material.model``)."""
+    try:
+        if isinstance(m, dk.LPSMaterialSpec):
+            return MATERIALS["lps"](m.youngs_modulus, m.poisson_ratio, m.density)
+        return MATERIALS[m.model](
+            m.youngs_modulus, m.density, m.micromodulus_profile, m.micromodulus
+        )
+    except ValueError as exc:
+        raise SetupError("material", str(exc)) from None
+
+
 def build_model(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, body: list) -> Model:
     """Material + damage + loads -> Model."""
+    material = build_material(deck.material)
     m = deck.material
-    material = MATERIALS[m.model](
-        m.youngs_modulus, m.density, m.micromodulus_profile, m.micromodulus
-    )
     dmg = deck.damage
     if dmg.model == "none":
         damage = NO_DAMAGE
@@ -335,125 +376,8 @@ def build_model(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, body: list) -> M
         else BondViscosity(m.viscosity.linear, m.viscosity.quadratic),
         softening=softening,
         contact=contact,
-        damping=deck.solver.damping,
+        damping=getattr(deck.solver, "damping", 0.0),
     )
-
-
-# ------------------------------------------------------------------------ recording
-@dataclass
-class Recorder:
-    """Histories recorded every ``every`` steps (time, probes, energies, damage, crack tip)."""
-
-    deck: dk.Deck
-    model: Model
-    records: dict[str, Any] = field(default_factory=dict)
-
-    def __post_init__(self) -> None:
-        if not self.records:
-            self.records = {
-                "time_s": [],
-                "kinetic_energy_J": [],
-                "strain_energy_J": [],
-                "max_damage": [],
-                "probes": {p.name: [] for p in self.deck.output.probes},
-                "crack_tip_m": [],
-                "vtk_frames": [],
-                "stress_Pa": [],
-                "strain": [],
-            }
-        self._pre_damaged: NDArray[np.bool_] | None = None
-        ct = self.deck.output.crack_tip
-        self._tip = (
-            None
-            if ct is None
-            else (
-                np.asarray(ct.origin, dtype=float),
-                None if ct.direction is None else np.asarray(ct.direction, dtype=float),
-                ct.damage_threshold,
-            )
-        )
-
-    def probe_value(self, probe: dk.Probe, s: State, damage: NDArray) -> float:
-        """One number for a probe at the current state."""
-        q = probe.quantity
-        if q == "section_stress":
-            assert probe.position is not None
-            return self.model.section_stress(s.u, s.intact, probe.position)
-        nodes = self.model.cloud.node_set(probe.set)
-        if q in ("damage", "max_stretch"):
-            vals = damage[nodes] if q == "damage" else s.max_stretch[nodes]
-            return float(_reduce(vals, probe.reduce or "max"))
-        if q == "reaction_force":
-            f = -s.force[nodes] * self.model.cloud.volume[nodes, None]
-            vec = f.sum(axis=0)
-            return float(
-                np.linalg.norm(vec)
-                if probe.component == "magnitude"
-                else vec[COMP[probe.component]]
-            )
-        arr = {"displacement": s.u, "velocity": s.v, "force_density": s.force}[q][nodes]
-        vals = (
-            np.linalg.norm(arr, axis=1)
-            if probe.component == "magnitude"
-            else arr[:, COMP[probe.component]]
-        )
-        return float(_reduce(vals, probe.reduce or "mean"))
-
-    def check_fracture(self, s: State, broken_before: int) -> bool:
-        """Record the fracture time and damaged zone the first time the largest damage
-        reaches the threshold (only evaluated when bonds broke in this step)."""
-        fr = self.deck.output.fracture
-        if fr is None or "fracture_time_s" in self.records or s.bonds_broken == broken_before:
-            return False
-        damage = self.model.point_damage(s.intact)
-        hit = damage >= fr.damage_threshold
-        if not np.any(hit):
-            return False
-        x = self.model.cloud.x[hit]
-        self.records["fracture_time_s"] = s.t
-        self.records["fracture_step"] = s.step
-        if self.model.dim == 1:
-            self.records["fracture_position_m"] = [float(x[:, 0].min()), float(x[:, 0].max())]
-        else:
-            self.records["fracture_position_m"] = [x.min(axis=0).tolist(), x.max(axis=0).tolist()]
-        self.records["fracture_damage"] = damage.tolist() if self.model.dim == 1 else None
-        return True
-
-    def record(self, s: State) -> None:
-        """Append one record."""
-        m, r = self.model, self.records
-        damage = m.point_damage(s.intact)
-        r["time_s"].append(s.t)
-        r["kinetic_energy_J"].append(m.kinetic_energy(s.v))
-        r["strain_energy_J"].append(m.strain_energy(s.u, s.intact))
-        r["max_damage"].append(float(damage.max()))
-        for p in self.deck.output.probes:
-            r["probes"][p.name].append(self.probe_value(p, s, damage))
-        ss = self.deck.output.stress_strain
-        if ss is not None:
-            nodes = m.cloud.node_set(ss.set)
-            d = np.asarray(ss.direction, dtype=float)
-            d /= np.linalg.norm(d)
-            push = (s.force[nodes] * m.cloud.volume[nodes, None]).sum(axis=0)
-            r.setdefault("stress_Pa", []).append(float(-np.sum(push * d) / ss.area))
-            r.setdefault("strain", []).append(
-                float(np.sum(s.u[nodes].mean(axis=0) * d) / ss.length)
-            )
-        if self._tip is not None:
-            origin, direction, thr = self._tip
-            if self._pre_damaged is None:  # points a pre-crack damages at t = 0
-                self._pre_damaged = m.point_damage(m.bonds.bond_intact) >= thr
-            r["crack_tip_m"].append(
-                crack_tip(m.cloud.x, damage, origin, direction, thr, self._pre_damaged)
-            )
-
-
-def _reduce(vals: NDArray, how: str) -> float:
-    if how == "mean":
-        return float(np.mean(vals))
-    if how == "sum":
-        return float(np.sum(vals))
-    return float(np.max(vals) if how == "max" else np.min(vals))
 
 
 # ---------------------------------------------------------------------- simulation
@@ -464,7 +388,7 @@ class Simulation:
     deck: dk.Deck
     cloud: PointCloud
     model: Model
-    solver: ExplicitSolver | HybridSolver
+    solver: Solver
     setup_s: float = 0.0
 
     @classmethod
@@ -475,30 +399,20 @@ class Simulation:
         bonds = build_bonds_for(deck, cloud)
         body, kin, init = build_conditions(deck, cloud)
         s = deck.solver
-        if s.method == "fdm":
-            material = MATERIALS[deck.material.model](
-                deck.material.youngs_modulus,
-                deck.material.density,
-                deck.material.micromodulus_profile,
-            )
+        if isinstance(s, dk.Solver) and s.method == "fdm":
+            m = deck.material
+            assert isinstance(m, dk.Material)
+            material = MATERIALS[m.model](m.youngs_modulus, m.density, m.micromodulus_profile)
             model: Model = FDMModel1D(cloud, material, body)
         else:
             model = build_model(deck, cloud, bonds, body)
-        try:
-            solver: ExplicitSolver | HybridSolver
-            if s.hybrid is not None:
-                solver = _hybrid_solver(deck, cloud, model, body, kin, init)
-                return cls(deck, cloud, model, solver, setup_s=time.perf_counter() - t0)
-            solver = ExplicitSolver(model, **_solver_options(s, kin, init, s.time_step))
-        except ValueError as exc:
-            raise SetupError("solver.time_step", str(exc)) from None
+        solver = build_solver(deck, cloud, model, body, kin, init)
         return cls(deck, cloud, model, solver, setup_s=time.perf_counter() - t0)
 
     @property
     def n_steps(self) -> int:
         """Total number of steps of the run."""
-        s = self.deck.solver
-        return s.steps if s.steps is not None else self.solver.steps_for(s.end_time or 0.0)
+        return self.solver.total_steps()
 
     def fingerprint(self) -> str:
         """Hash of the validated deck, the package version and (for mesh geometries) the
@@ -512,26 +426,6 @@ class Simulation:
             h.update(Path(self.deck.geometry.file).read_bytes())
         return h.hexdigest()
 
-    def _frame(self, out: Path, s: State, records: dict, name: str | None = None) -> None:
-        m = self.model
-        fields = self.deck.output.fields
-        data: dict[str, NDArray] = {}
-        if "displacement" in fields:
-            data["displacement"] = s.u
-        if "velocity" in fields:
-            data["velocity"] = s.v
-        if "damage" in fields:
-            data["damage"] = m.point_damage(s.intact)
-        if "force_density" in fields:
-            data["force_density"] = s.force
-        fname = name or f"frame_{s.step:07d}.vtu"
-        write_vtu(out / fname, self.cloud.x, data)
-        if name is None:
-            frames = [f for f in records["vtk_frames"] if f[1] != fname]
-            frames.append((s.t, fname))
-            records["vtk_frames"] = frames
-            write_pvd(out / f"{self.deck.name}.pvd", [tuple(f) for f in frames])
-
     def run(
         self,
         out_dir: str | Path,
@@ -542,95 +436,80 @@ class Simulation:
     ) -> dict:
         """Run to the end, writing output into ``out_dir``; returns the summary mapping.
 
-        Raises SimulationUnstable after writing ``last_good.vtu`` and a summary whose
-        ``status`` is ``"unstable"``.
+        The loop is generic: ``solver.step`` until ``solver.done``, every observer's
+        ``on_step`` after each step. Raises SimulationUnstable after writing
+        ``last_good.vtu`` and a summary whose ``status`` is ``"unstable"``.
         """
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
-        o = self.deck.output
+        solver = self.solver
         if resume:
-            state, records, fp, model_state = read_checkpoint(out)
+            state, records, fp = read_checkpoint(out)
             if fp != self.fingerprint():
                 raise SetupError(
                     "--resume",
                     f"the checkpoint in {str(out)!r} was written by "
                     "a different deck; resume with the same deck and overrides",
                 )
-            if state.step >= self.n_steps and (out / "summary.json").exists():
+            if solver.done(state) and (out / "summary.json").exists():
                 raise SetupError(
                     "--resume",
                     f"the run in {str(out)!r} has already finished "
                     f"({state.step} steps); nothing to resume",
                 )
-            self.model.restore_history(model_state)
-            self.solver._last_good = state.copy()
-            recorder = Recorder(self.deck, self.model, records)
+            try:
+                solver.resume(state)
+            except ValueError as exc:
+                raise SetupError("--resume", str(exc)) from None
         else:
-            state = self.solver.init()
-            recorder = Recorder(self.deck, self.model)
-            recorder.record(state)
-            self._frame(out, state, recorder.records)
-        n_total = self.n_steps
+            state = solver.init()
+            records = new_records(self.deck)
+        ctx = RunContext(self.deck, self.model, solver, out, records, self.fingerprint())
+        observers = observers_for(self.deck, self.model, isinstance(solver, HybridSolver),
+                                  checkpoint_every)  # fmt: skip
+        for ob in observers:
+            ob.on_start(ctx, state, resume)
+        n_total = solver.total_steps()
         t_start = time.perf_counter()
         steps_done_here = 0
         bar = _progress(quiet or not progress, n_total, state.step, self.deck.name)
-        status, error = "completed", None
+        error = None
         try:
             with bar:
-                while state.step < n_total:
-                    broken_before = state.bonds_broken
-                    self.solver.step(state)
+                while not solver.done(state) and not ctx.stop:
+                    before = state.bonds_broken
+                    result = solver.step(state)
+                    result.broken = state.bonds_broken - before
                     steps_done_here += 1
-                    if state.phase == 1 and "switch_time_s" not in recorder.records:
-                        recorder.records["switch_time_s"] = state.t  # hybrid handed over
-                    fractured = recorder.check_fracture(state, broken_before)
-                    if fractured and o.fracture is not None and o.fracture.stop:
-                        recorder.record(state)
-                        break
-                    if state.step % o.history_every == 0 or state.step == n_total:
-                        recorder.record(state)
-                    if o.vtk_every and state.step % o.vtk_every == 0:
-                        self._frame(out, state, recorder.records)
-                    if checkpoint_every and state.step % checkpoint_every == 0:
-                        write_checkpoint(
-                            out,
-                            state,
-                            recorder.records,
-                            self.fingerprint(),
-                            self.model.history_arrays(),
-                        )
-                    if state.step == _CRASH_AT_STEP:  # test hook: a hard crash mid-run
-                        os._exit(137)
-                    if state.step % 50 == 0 or state.step == n_total:
+                    for ob in observers:
+                        ob.on_step(ctx, state, result)
+                    if state.step % 50 == 0 or solver.done(state):
                         bar.update(state.step)
-                if state.step % self.solver.check_every:
-                    self.solver.check(state)  # the last steps are checked too
+                solver.check(state)  # the last steps are checked too
         except SimulationUnstable as exc:
-            status, error = "unstable", str(exc)
+            ctx.status, error = "unstable", str(exc)
             good = exc.last_good or state
-            self._frame(out, good, recorder.records, name="last_good.vtu")
+            VTKFrames(self.deck, self.model).frame(ctx, good, name="last_good.vtu")
             wall = time.perf_counter() - t_start
-            self._finish(out, state, recorder, wall, steps_done_here, status, error)
+            self._finish(ctx, state, observers, wall, steps_done_here, error)
             raise
         wall = time.perf_counter() - t_start
-        if not o.vtk_every or state.step % o.vtk_every:
-            self._frame(out, state, recorder.records)
-        return self._finish(out, state, recorder, wall, steps_done_here, status, error)
+        return self._finish(ctx, state, observers, wall, steps_done_here, error)
 
     def _finish(
         self,
-        out: Path,
+        ctx: RunContext,
         s: State,
-        recorder: Recorder,
+        observers: list[Observer],
         wall: float,
         steps: int,
-        status: str,
         error: str | None,
     ) -> dict:
-        m, r = self.model, recorder.records
-        damage = m.point_damage(s.intact)
+        """final_state.npz, the results every run has, then each observer's."""
+        m = self.model
+        damage = ctx.damage(s)
         np.savez(
-            out / "final_state.npz",
+            ctx.out / "final_state.npz",
             u=s.u,
             v=s.v,
             damage=damage,
@@ -643,8 +522,7 @@ class Simulation:
             "n_bonds": m.bonds.n_bonds,
             "spacing_m": self.cloud.spacing,
             "horizon_m": m.bonds.horizon,
-            "time_step_s": self.solver.dt,
-            "stable_time_step_s": self.solver.stable_time_step,
+            **self.solver.summary_fields(s),
             "steps": s.step,
             "final_time_s": s.t,
             "max_damage": float(damage.max()),
@@ -652,89 +530,11 @@ class Simulation:
             "max_displacement_m": float(np.abs(s.u).max()),
             "kinetic_energy_J": m.kinetic_energy(s.v),
             "strain_energy_J": m.strain_energy(s.u, s.intact),
-            "history": {
-                k: r[k] for k in ("time_s", "kinetic_energy_J", "strain_energy_J", "max_damage")
-            },
-            "probes": {},
+            "damaged_area_fraction": float(np.mean(damage >= 0.3)),
         }
-        t = np.asarray(r["time_s"])
-        for name, values in r["probes"].items():
-            v = np.asarray(values)
-            k = int(np.argmax(np.abs(v))) if len(v) else 0
-            peak = float(v[k]) if len(v) else 0.0
-            arrived = np.flatnonzero(np.abs(v) >= 0.1 * abs(peak)) if peak else np.array([])
-            results["probes"][name] = {
-                "time_s": r["time_s"],
-                "values": values,
-                "peak": peak,
-                "peak_time_s": float(t[k]) if len(v) else None,
-                "arrival_time_s": float(t[arrived[0]]) if arrived.size else None,
-            }
-        blasts: list[dk.BlastTF] = []
-        for spec in self.deck.boundary_conditions:
-            fn = getattr(spec, "time_function", None)
-            if isinstance(fn, dk.BlastTF):
-                blasts.append(fn)
-        if blasts:  # the pressure histories the run used (Kingery-Bulmash parameters)
-            import warnings
-
-            from peridynamics.loading.blast import BlastPulse
-
-            with warnings.catch_warnings():  # already warned when the run was set up
-                warnings.simplefilter("ignore")
-                results["blast"] = [
-                    {
-                        **BlastPulse(b.charge_kg, b.standoff_m, b.shape).parameters.as_dict(),
-                        "shape": b.shape,
-                        "delay_s": b.delay,
-                    }
-                    for b in blasts
-                ]
-        results["damaged_area_fraction"] = float(np.mean(damage >= 0.3))
-        ke = np.asarray(r["kinetic_energy_J"])
-        se = np.asarray(r["strain_energy_J"])
-        # quasi-static check: KE / SE once the body is loaded (SE >= 10 % of its maximum)
-        loaded = se >= 0.1 * se.max() if se.size and se.max() > 0 else np.zeros(0, bool)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = ke[loaded] / se[loaded]
-        results["max_kinetic_to_strain_energy"] = float(ratio.max()) if ratio.size else 0.0
-        if self.deck.output.stress_strain is not None and r.get("stress_Pa"):
-            stress = np.asarray(r["stress_Pa"])
-            k = int(np.argmax(stress))
-            results["peak_stress_Pa"] = float(stress[k])
-            results["strain_at_peak"] = float(r["strain"][k])
-            results["stress_strain"] = {"strain": r["strain"], "stress_Pa": r["stress_Pa"]}
-        if isinstance(self.solver, HybridSolver):
-            results["switch_time_s"] = r.get("switch_time_s")
-            results["switched"] = s.phase == 1
-        if self.deck.output.fracture is not None:
-            results["fracture_time_s"] = r.get("fracture_time_s")
-            results["fracture_position_m"] = r.get("fracture_position_m")
-            results["fracture_step"] = r.get("fracture_step")
-            if r.get("fracture_damage") is not None:
-                results["damage_at_fracture"] = r["fracture_damage"]
-        ct = self.deck.output.crack_tip
-        if ct is not None:
-            pos = np.asarray(r["crack_tip_m"])
-            speed = tip_speed(t, pos)
-            results["crack_tip_position_m"] = pos.tolist()
-            results["crack_tip_speed_m_per_s"] = speed.tolist()
-            results["max_crack_tip_speed_m_per_s"] = float(speed.max()) if len(speed) else 0.0
-            if self.cloud.dim == 2:
-                origin = np.asarray(ct.origin, dtype=float)
-                direction = np.asarray(ct.direction or [1.0, 0.0], dtype=float)
-                direction = direction / np.linalg.norm(direction)
-                n_br, dist = branching(
-                    self.cloud.x, damage, self.cloud.spacing, ct.damage_threshold, origin, direction
-                )
-                point = None if dist is None else (origin + dist * direction).tolist()
-                results["crack_branches"] = n_br
-                results["crack_branched"] = n_br >= 2
-                results["branching_distance_m"] = dist
-                results["branching_point_m"] = point
-                results["branching_x_m"] = None if point is None else point[0]
-        files = self._figure(out, s, damage, r)
-        files += self._wave_outputs(out, s, results)
+        files: list[str] = []
+        for ob in observers:
+            files += ob.finalize(ctx, s, results)
         n_b = m.bonds.n_bonds
         timing = {
             "wall_s": wall,
@@ -743,98 +543,16 @@ class Simulation:
             "bond_updates_per_s": n_b * steps / wall if wall > 0 and steps else 0.0,
             "seconds_per_step": wall / steps if steps else 0.0,
         }
-        extra: dict[str, Any] = {"status": status, "files": files}
+        extra: dict[str, Any] = {"status": ctx.status, "files": files}
         if error:
             extra["error"] = error
         return write_summary(
-            out / "summary.json",
+            ctx.out / "summary.json",
             self.deck.model_dump(mode="json", by_alias=True),
             results,
             timing,
             extra,
         )
-
-    def _wave_outputs(self, out: Path, s: State, results: dict[str, Any]) -> list[str]:
-        """results.period_s and the d'Alembert comparison (+ wave_profile.csv)."""
-        o = self.deck.output
-        files: list[str] = []
-        if o.period is not None:
-            pr = results["probes"][o.period.probe]
-            try:
-                values = np.asarray(pr["values"])
-                if o.period.of == "magnitude":
-                    values = np.abs(values)
-                elif o.period.of == "rate":
-                    values = np.abs(np.gradient(values, np.asarray(pr["time_s"])))
-                results["period_s"] = dominant_period(pr["time_s"], values, o.period.min_period)
-            except ValueError as exc:
-                results["period_s"] = None
-                results["period_error"] = str(exc)
-        wc = o.wave_comparison
-        if wc is not None:
-            mat = self.deck.material
-            speed = float(np.sqrt(mat.youngs_modulus / mat.density))
-            x = self.cloud.x[:, 0]
-            exact, errors = pulse_comparison(
-                x, s.u[:, 0], s.t, wc.shape, wc.amplitude, wc.duration, speed,
-                wc.source_position, wc.tail_margin,
-            )  # fmt: skip
-            results.update(errors)
-            results["wave_front_m"] = wc.source_position + speed * s.t
-            path = out / "wave_profile.csv"
-            np.savetxt(
-                path,
-                np.column_stack([x, s.u[:, 0], exact]),
-                delimiter=",",
-                header="x_m,u_m,u_exact_m",
-                comments="",
-            )
-            files.append(path.name)
-        return files
-
-    def _figure(self, out: Path, s: State, damage: NDArray, r: dict) -> list[str]:
-        kind = self.deck.output.plot
-        if kind == "none":
-            return []
-        if kind == "auto":
-            kind = "probes" if self.cloud.dim == 1 else "damage"
-        path = out / f"{self.deck.name}_{kind}.png"
-        if kind == "damage":
-            if self.cloud.dim == 1:
-                series = {"damage": damage.tolist()}
-                plot_histories(
-                    path,
-                    self.cloud.x[:, 0].tolist(),
-                    series,
-                    f"{self.deck.name}: damage at t = {s.t * 1e6:.2f} us",
-                    xlabel="x (m)",
-                    xscale=1.0,
-                )
-            else:
-                plot_damage(
-                    path,
-                    self.cloud.x,
-                    damage,
-                    self.cloud.spacing,
-                    f"{self.deck.name}: damage at t = {s.t * 1e6:.2f} us",
-                )
-        else:
-            units = {
-                "displacement": "m",
-                "velocity": "m/s",
-                "force_density": "N/m^3",
-                "reaction_force": "N",
-                "section_stress": "Pa",
-                "max_stretch": "-",
-                "damage": "-",
-            }
-            series = {
-                f"{p.name} ({units[p.quantity]})": r["probes"][p.name]
-                for p in self.deck.output.probes
-            }
-            series = series or {"kinetic energy (J)": r["kinetic_energy_J"]}
-            plot_histories(path, r["time_s"], series, f"{self.deck.name}: probes")
-        return [path.name]
 
 
 class _NoBar:

@@ -1,4 +1,4 @@
-"""Seed 001 rock compression: deck contract, ensemble command, flaw analysis, contact in
+"""SED-PD (2021) rock compression: deck contract, ensemble command, flaw analysis, contact in
 a model, and (slow) the Weibull-shape trend at paper scale."""
 
 from __future__ import annotations
@@ -123,7 +123,7 @@ def test_contact_stops_two_blocks_interpenetrating_in_a_model() -> None:
 
 @pytest.mark.slow
 def test_weibull_shape_trend_at_paper_scale() -> None:
-    """Seed 001 section 3.2: at the same load step the damaged area falls as m grows.
+    """SED-PD (2021), section 3.2: at the same load step the damaged area falls as m grows.
     One realisation per m is not enough to see it (the seed-to-seed spread at m = 10 is
     0.3 % of the area, as large as the step from m = 20 to 100): compare the means of
     three Weibull fields each for m = 2, 10 and 100."""

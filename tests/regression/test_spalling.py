@@ -1,4 +1,4 @@
-"""Seed 000 Table 1 (issue 4, first part): the seven spalling decks against the paper."""
+"""Lu & Wang (2016), Table 1 (issue 4, first part): the seven spalling decks against the paper."""
 
 from __future__ import annotations
 
@@ -84,8 +84,8 @@ def test_table2_test_bar_schemes(tmp_path) -> None:
     for kind in ("pd1_pd3", "fdm_pd3"):
         r = res[kind]
         assert r["switched"] and r["switch_time_s"] < r["fracture_time_s"]
-    # with the synthetic pulse (SPEC.md 1.5) the hybrids spall at 0.80-0.81 m, the PD3
-    # run at 0.84-0.86 m, 8 us earlier: recorded, not the paper's claim of one position
+    # with the synthetic pulse (examples/spalling/README.md) the hybrids spall at 0.80-0.81 m,
+    # the PD3 run at 0.84-0.86 m, 8 us earlier: recorded, not the paper's claim of one position
     assert res["fdm_pd3"]["fracture_position_m"] == res["pd1_pd3"]["fracture_position_m"]
     assert res["pd3"]["fracture_time_s"] < res["fdm_pd3"]["fracture_time_s"]
     for r in res.values():

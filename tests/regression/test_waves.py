@@ -1,5 +1,5 @@
-"""Seed 003 section 4.5: pulses in a 1-D bar against d'Alembert, plain vs viscous PD,
-and the wave-analysis helpers."""
+"""PD wave dispersion (n.d.), section 4.1: pulses in a 1-D bar against d'Alembert, plain vs
+viscous PD, and the wave-analysis helpers."""
 
 from __future__ import annotations
 
@@ -45,7 +45,8 @@ def test_viscosity_removes_the_trailing_oscillation(pulses, shape: str) -> None:
     for kind in ("linear", "polynomial"):
         visc = pulses[(shape, kind)]
         assert visc["trailing_oscillation"] < plain["trailing_oscillation"] / 3, (kind, visc)
-    # plain PD leaves a visible trailing wave behind the pulse (the dispersion of seed 003)
+    # plain PD leaves a visible trailing wave behind the pulse (the dispersion of PD wave
+    # dispersion (n.d.), section 2)
     assert plain["trailing_oscillation"] > 0.03
 
 
@@ -77,12 +78,13 @@ def test_dominant_period_and_spectrum() -> None:
 
 @pytest.mark.parametrize("charge", [1, 80])
 def test_blast_bar_period_is_the_transit_time(tmp_path, charge: int) -> None:
-    """Fronts cross the midpoint every L / v0 = 203.9 us (seed 003 eq. 59): within 1 %."""
+    """Fronts cross the midpoint every L / v0 = 203.9 us (PD wave dispersion (n.d.), eq. 59):
+    within 1 %."""
     cli("run", str(EXAMPLES / "waves" / f"blast_bar_{charge}kg.yaml"), "--out", str(tmp_path),
         check=True)  # fmt: skip
     r = json.loads((tmp_path / "summary.json").read_text())["results"]
     assert r["period_s"] == pytest.approx(1.0 / np.sqrt(193e9 / 8027), rel=0.01)
-    blast = r["blast"][0]  # the Kingery-Bulmash parameters the run used (SPEC.md 4.5.2)
+    blast = r["blast"][0]  # the Kingery-Bulmash parameters the run used (tests/unit/test_blast.py)
     assert blast["reflected_pressure_Pa"] == pytest.approx(
         {1: 30.36e6, 80: 314.8e6}[charge], rel=2e-3
     )

@@ -1,4 +1,5 @@
-"""Kingery-Bulmash free-air blast parameters and blast pulses (SPEC section 4.5, seed 003)."""
+"""Kingery-Bulmash free-air blast parameters and blast pulses (Kingery & Bulmash 1984;
+UFC 3-340-02, 2008; the blast loads of PD wave dispersion (n.d.), sections 4.1.2 and 4.2)."""
 
 from __future__ import annotations
 
@@ -18,7 +19,8 @@ from peridynamics.loading.blast import (
 )
 from peridynamics.loading.time_functions import TimeFunction
 
-# SPEC section 4.5.2 table (KB free-air coefficient set, UFC 3-340-02 Fig. 2-7), SI units.
+# Reference table (KB free-air coefficient set, UFC 3-340-02 Fig. 2-7), SI units; the same
+# values are listed in docs/theory_viscosity.md.
 W1 = dict(
     Z=0.500, Pr=30.36e6, Ir=1454.0, tr=95.8e-6, Pso=3.885e6, Is=141.3, t0=0.3196e-3, ta=0.154e-3
 )

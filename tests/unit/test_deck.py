@@ -228,7 +228,7 @@ MALFORMED = [
         "material.poisson_ratio",
         "less than 0.5",
     ),
-    ("material-model", setp("material.model", "lps"), "material.model", "'pmb'"),
+    ("material-model", setp("material.model", "elastoplastic"), "material.model", "lps"),
     # -- discretisation
     (
         "horizon-below-spacing",

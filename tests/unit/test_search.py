@@ -94,7 +94,8 @@ def test_property_search_and_csr(data, k):
 
 
 def _beta(length, horizon, dx, rule):
-    """Independent partial-volume factor (seed 000 eq. 9 / seed 001 eq. 11 / none)."""
+    """Independent partial-volume factor (Lu & Wang (2016), eq. 9 / SED-PD (2021), eq. 11 /
+    none)."""
     out = np.zeros_like(length)
     for k, L in enumerate(length):
         if rule == "none":

@@ -68,7 +68,7 @@ def test_last_good_state_is_a_consistent_snapshot() -> None:
     s.v[:, 0] = 50.0 * (cloud.x[:, 0] - 0.005) / 0.005  # pull apart: bonds break
     solver.run(s, 40)
     assert s.bonds_broken > 0
-    good = solver._last_good
+    good = solver.last_good
     assert good is not None and good.step == 40
     assert good.bonds_broken == s.bonds_broken
     assert np.array_equal(good.intact, s.intact) and np.array_equal(good.u, s.u)

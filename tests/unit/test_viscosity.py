@@ -1,5 +1,6 @@
-"""Viscous bond forces (seed 003 eqs 45-56): kernel == NumPy twin, dissipation, momentum,
-bitwise identity with plain PD when switched off, coefficients and stable step."""
+"""Viscous bond forces (PD wave dispersion (n.d.), eqs 45-56): kernel == NumPy twin,
+dissipation, momentum, bitwise identity with plain PD when switched off, coefficients and
+stable step."""
 
 from __future__ import annotations
 
@@ -85,7 +86,7 @@ def test_broken_bonds_carry_no_viscous_force() -> None:
 
 def test_coefficients_and_1d_rate_equivalence() -> None:
     """alpha_p = rho v0 / V_H, alpha_q = rho delta / V_H, and b1 alpha_p = gamma c in 1-D
-    with gamma = b1 delta / (4 v0) (seed 003 eqs 39, 53)."""
+    with gamma = b1 delta / (4 v0) (PD wave dispersion (n.d.), eqs 39, 53)."""
     delta, area = 3.015e-3, 1e-4
     visc = BondViscosity(0.5, 2.0)
     lin, quad = visc.coefficients(1, delta, area, E, RHO)

@@ -1,5 +1,6 @@
 """Dispersion relations (issue 3): paper numbers, Bloch waves from real bond lists,
-simulated waves, the FDM limit and the trends stated in seeds 000 and 003."""
+simulated waves, the FDM limit and the trends stated in Lu & Wang (2016) and PD wave
+dispersion (n.d.) (references: docs/references.md)."""
 
 from __future__ import annotations
 
@@ -22,7 +23,7 @@ V0 = math.sqrt(E / RHO)
 
 
 # ------------------------------------------------------------- the papers' numbers
-def test_seed003_1d_numbers() -> None:  # SPEC.md 4.2
+def test_seed003_1d_numbers() -> None:  # PD wave dispersion (n.d.), eqs 17-21, Figs 2-3
     d = dsp.semi_discrete_1d([0.0, 0.2, 0.25, 0.5, 1.0, 1.5], 3.015)
     np.testing.assert_allclose(
         d.v_over_v0, [1.14896, 0.78270, 0.64508, 0.34481, 0.0, 0.11494], atol=6e-6
@@ -47,14 +48,14 @@ def test_seed003_1d_numbers() -> None:  # SPEC.md 4.2
         (45.0, [0.81772, 0.40065, 0.19870, 0.06742]),
     ],
 )
-def test_seed003_2d_numbers(theta: float, expected: list[float]) -> None:  # SPEC.md 4.3
+def test_seed003_2d_numbers(theta: float, expected: list[float]) -> None:  # idem, eq. 32
     d = dsp.semi_discrete_2d([0.0, 0.25, 0.5, 1.0, 1.5], 3.015, theta)
     assert d.v_over_v0[0] == pytest.approx(1.24020, abs=5e-6)
     np.testing.assert_allclose(d.v_over_v0[1:], expected, atol=6e-6)
     assert len(dsp.lattice_family_2d(3.015)) == 28
 
 
-def test_seed000_sample_table() -> None:  # SPEC.md 1.2, f in Hz at dx = 5 mm, dt = 1 us
+def test_seed000_sample_table() -> None:  # Lu & Wang (2016), eq. 12; Hz, dx 5 mm, dt 1 us
     table = {
         100: [43653, 42976, 41874, 40387],
         200: [85346, 80179, 72417, 63186],

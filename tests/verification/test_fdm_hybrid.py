@@ -112,20 +112,7 @@ def test_switching_rule_is_reusable() -> None:
         SwitchAtStretch(0.0)
     cloud, mat, _ = _pulse_bar()
     target = Model(cloud, build_bonds(cloud, 3 * DX, "truncated"), mat, CriticalStretch(1e-3))
-    from peridynamics.solvers.state import State
-
-    n = cloud.n_points
-    st = State(
-        0.0,
-        0,
-        np.zeros((n, 1)),
-        np.zeros((n, 1)),
-        np.zeros((n, 1)),
-        np.zeros((n, 1)),
-        np.zeros((n, 1)),
-        target.bonds.bond_intact.copy(),
-        np.zeros(n),
-    )
+    st = target.new_state()
     assert not rule.should_switch(st, target, target)
     st.max_stretch[5] = 5e-4
     assert rule.should_switch(st, target, target)
@@ -134,7 +121,7 @@ def test_switching_rule_is_reusable() -> None:
 def test_attenuation_fit_and_corrected_spall_strength() -> None:
     from peridynamics.analysis import corrected_strength, fit_attenuation
 
-    # seed 000 eq. 19: 25.5 MPa corrected over 0.39 + 0.20 m with beta = 0.52 1/m
+    # Lu & Wang (2016), eq. 19: 25.5 MPa corrected over 0.39 + 0.20 m with beta = 0.52 1/m
     assert corrected_strength(25.5e6, 0.52, 0.39 + 0.20) == pytest.approx(18.8e6, rel=3e-3)
     x = np.array([0.6, 1.58, 2.56, 3.54, 4.52])
     rng = np.random.default_rng(0)

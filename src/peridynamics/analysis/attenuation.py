@@ -1,9 +1,9 @@
-"""Stress-wave attenuation in rock bars (seed 000 eq. 19).
+"""Stress-wave attenuation in rock bars (Lu & Wang (2016), eq. 19).
 
 The amplitude of a stress pulse decays as sigma(x) = sigma0 exp(-beta x). Fitting beta to
 peak amplitudes along the bar corrects a nominal spall strength measured at a gauge to
 the stress that actually arrived at the spall plane:
-sigma1 = sigma_nominal exp(-beta * path) (seed 000: 25.5 MPa -> 18.8 MPa with
+sigma1 = sigma_nominal exp(-beta * path) (Lu & Wang (2016): 25.5 MPa -> 18.8 MPa with
 beta = 0.52 1/m over the 0.39 + 0.20 = 0.59 m path).
 """
 
@@ -36,7 +36,7 @@ def fit_attenuation(positions: ArrayLike, peaks: ArrayLike) -> tuple[float, floa
 
 
 def corrected_strength(nominal: float, beta: float, path: float) -> float:
-    """sigma1 = nominal exp(-beta path) (seed 000 eq. 19); units of ``nominal``."""
+    """sigma1 = nominal exp(-beta path) (Lu & Wang (2016), eq. 19); units of ``nominal``."""
     if path < 0:
         raise ValueError("path must be >= 0 m")
     return float(nominal * np.exp(-beta * path))

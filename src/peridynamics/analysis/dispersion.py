@@ -1,18 +1,21 @@
 """Dispersion relations of discrete bond-based peridynamics.
 
-Closed forms (seed 000 section 2, seed 003 section 2; SPEC.md sections 1.2, 4.2, 4.3):
+Closed forms (Lu & Wang (2016), section 2; PD wave dispersion (n.d.), section 2; full
+references in docs/references.md):
 
-* :func:`fully_discrete_1d` -- 1-D PD with the seed-000 partial-volume rule (weight 1/2 on
-  the neighbour at exactly delta = m dx) and central-difference time stepping
-  (seed 000 eq. 12, repaired as in SPEC.md 1.2):
+* :func:`fully_discrete_1d` -- 1-D PD with the partial-volume rule of Lu & Wang (2016)
+  (weight 1/2 on the neighbour at exactly delta = m dx) and central-difference time
+  stepping (Lu & Wang (2016), eq. 12, which as printed repeats the last term
+  (cos(m k dx) - 1)/(2m); it is counted once here):
   ``cos(w dt) - 1 = [2 c^2 dt^2 / (m^2 dx^2)] {sum_{q<m} (cos(q k dx) - 1)/q
   + (cos(m k dx) - 1)/(2m)}``.
-* :func:`semi_discrete_1d` -- seed 003 eqs 17-21: full nodal volumes, n = floor(delta/h)
-  neighbours per side, phase velocity, frequency and group velocity against
+* :func:`semi_discrete_1d` -- PD wave dispersion (n.d.), eqs 17-21: full nodal volumes,
+  n = floor(delta/h) neighbours per side, phase velocity, frequency and group velocity against
   N_h = kappa h / (2 pi).
-* :func:`continuous_1d` -- seed 003 eqs 14-16, the integral (non-discretised) operator.
-* :func:`semi_discrete_2d` -- seed 003 eq. 32, direction theta, the paper's scalar
-  operator over the lattice family.
+* :func:`continuous_1d` -- PD wave dispersion (n.d.), eqs 14-16, the integral
+  (non-discretised) operator.
+* :func:`semi_discrete_2d` -- PD wave dispersion (n.d.), eq. 32, direction theta, the
+  paper's scalar operator over the lattice family.
 * :func:`bloch_dispersion` -- the same quantities computed from the *actual* bond list of
   a patch built by the engine (any horizon, partial-volume rule, micromodulus profile,
   surface correction): the Bloch-wave dynamical matrix of one interior point.
@@ -38,9 +41,9 @@ def _one_minus_cos(x: ArrayLike) -> F:
     return 2.0 * np.sin(0.5 * np.asarray(x, dtype=float)) ** 2
 
 
-# ----------------------------------------------------------------------- 1-D, seed 000
+# ------------------------------------------------------------ 1-D, Lu & Wang (2016)
 def discrete_weights_1d(m: int) -> F:
-    """Weights w_q, q = 1..m, of the seed-000 1-D stencil: 1, ..., 1, 1/2."""
+    """Weights w_q, q = 1..m, of the 1-D stencil of Lu & Wang (2016): 1, ..., 1, 1/2."""
     if m < 1:
         raise ValueError("m = delta/dx must be an integer >= 1")
     w = np.ones(m)
@@ -51,7 +54,8 @@ def discrete_weights_1d(m: int) -> F:
 def fully_discrete_1d(
     k: ArrayLike, dx: float, m: int, dt: float, youngs_modulus: float, density: float
 ) -> F:
-    """Angular frequency omega(k) (rad/s) of 1-D PD with central differences (seed 000 eq. 12).
+    """Angular frequency omega(k) (rad/s) of 1-D PD with central differences (Lu & Wang
+    (2016), eq. 12, last term counted once).
 
     Parameters
     ----------
@@ -96,7 +100,7 @@ def fdm_1d(k: ArrayLike, dx: float, dt: float, youngs_modulus: float, density: f
     return _omega_from_half_sine2(0.5 * courant2 * _one_minus_cos(k * dx), dt)
 
 
-# ----------------------------------------------------------------------- 1-D, seed 003
+# --------------------------------------------------- 1-D, PD wave dispersion (n.d.)
 @dataclass(frozen=True)
 class Dispersion:
     """A dispersion curve against N_h = kappa h / (2 pi); all arrays shape (n,)."""
@@ -112,14 +116,15 @@ class Dispersion:
 
 
 def neighbours_1d(m: float) -> int:
-    """n = floor(delta / h) neighbours per side (seed 003: full volumes, |xi| <= delta)."""
+    """n = floor(delta / h) neighbours per side (PD wave dispersion (n.d.): full volumes,
+    |xi| <= delta)."""
     if m < 1:
         raise ValueError("m = delta/h must be >= 1")
     return int(np.floor(m + 1e-9))
 
 
 def semi_discrete_1d(N_h: ArrayLike, m: float = 3.015) -> Dispersion:
-    """Seed 003 eqs 19-21 and the group velocity, for delta = m h (full volumes).
+    """PD wave dispersion (n.d.), eqs 19-21 and the group velocity, for delta = m h (full volumes).
 
     v/v0 = (1 / (pi N_h m)) sqrt(S), omega/omega0 = (2/m) sqrt(S),
     v_g/v0 = (1/m) sum_j sin(2 pi N_h j) / sqrt(S), with S = sum_j (1 - cos 2 pi N_h j)/j.
@@ -139,7 +144,7 @@ def semi_discrete_1d(N_h: ArrayLike, m: float = 3.015) -> Dispersion:
 
 
 def zero_energy_points_1d(n_max: int = 2) -> F:
-    """N_h with v = 0 at kappa != 0: the non-zero integers (seed 003, Fig. 2)."""
+    """N_h with v = 0 at kappa != 0: the non-zero integers (PD wave dispersion (n.d.), Fig. 2)."""
     return np.arange(1, n_max + 1, dtype=float)
 
 
@@ -147,7 +152,8 @@ def zero_group_velocity_points_1d(m: float = 3.015, N_max: float = 1.0, samples:
     """N_h in (0, N_max) where the group velocity vanishes (roots of sum_j sin(2 pi N_h j)).
 
     Integer N_h (where S = 0 too) are excluded; for m = 3.015 the roots in (0, 1) are
-    0.25, 1/3, 0.5, 2/3, 0.75 (SPEC.md 4.2).
+    0.25, 1/3, 0.5, 2/3, 0.75 (the zero-slope points of PD wave dispersion (n.d.), Fig. 3;
+    reference values in tests/verification/test_dispersion.py).
     """
     j = np.arange(1, neighbours_1d(m) + 1)
 
@@ -167,8 +173,8 @@ def zero_group_velocity_points_1d(m: float = 3.015, N_max: float = 1.0, samples:
 
 
 def continuous_1d(kappa_delta: ArrayLike) -> F:
-    """Seed 003 eqs 14-16: v/v0 = (2 / (kappa delta)) sqrt(Cin(kappa delta)) for the
-    integral operator with c = 2E/(A delta^2), Cin(x) = gamma + ln x - Ci(x)."""
+    """PD wave dispersion (n.d.), eqs 14-16: v/v0 = (2 / (kappa delta)) sqrt(Cin(kappa delta))
+    for the integral operator with c = 2E/(A delta^2), Cin(x) = gamma + ln x - Ci(x)."""
     x = np.abs(np.atleast_1d(np.asarray(kappa_delta, dtype=float)))  # even in kappa
     with np.errstate(divide="ignore", invalid="ignore"):
         cin = np.euler_gamma + np.log(x) - sici(x)[1]
@@ -179,7 +185,7 @@ def continuous_1d(kappa_delta: ArrayLike) -> F:
         return np.where(x > 0, 2.0 / x * np.sqrt(np.maximum(cin, 0.0)), 1.0)
 
 
-# ------------------------------------------------------------------ 2-D, seed 003
+# --------------------------------------------------- 2-D, PD wave dispersion (n.d.)
 def lattice_family_2d(m: float) -> F:
     """Lattice bond vectors (in units of h) with |xi| <= m h, shape (n, 2)."""
     r = int(np.ceil(m))
@@ -190,7 +196,7 @@ def lattice_family_2d(m: float) -> F:
 
 
 def semi_discrete_2d(N_h: ArrayLike, m: float = 3.015, theta_deg: float = 0.0) -> Dispersion:
-    """Seed 003 eq. 32 (the paper's scalar operator), direction theta (degrees).
+    """PD wave dispersion (n.d.), eq. 32 (the paper's scalar operator), direction theta (degrees).
 
     |v/v0| = (3/(kappa delta)) sqrt((h/(pi delta)) sum_j (h/|xi_j|)(1 - cos kappa xi_j.b))
     over the lattice family |xi_j| <= delta; omega/omega0 = 2 pi N_h v/v0; the group
@@ -221,7 +227,7 @@ def oscillation_index_2d(
     samples: int = 2001,
 ) -> F:
     """Largest |d(v/v0)/dN_h| over the high band N_h in ``N_range`` for each direction
-    (seed 003 Fig. 6); default directions 0..360 degrees in 1-degree steps."""
+    (PD wave dispersion (n.d.), Fig. 6); default directions 0..360 degrees in 1-degree steps."""
     th = np.arange(0.0, 361.0, 1.0) if thetas_deg is None else np.asarray(thetas_deg, float)
     nh = np.linspace(N_range[0], N_range[1], samples)
     out = np.empty(len(th))
@@ -239,7 +245,7 @@ def bloch_dispersion(model: object, point: int, wavevectors: ArrayLike, mode: st
     rho omega^2 a = D(k) a with the dynamical matrix
     ``D(k) = sum_k stiffness_k / |xi_k| (1 - cos k.xi_k) P_k``, where ``P_k`` is the
     projector n n^T (``mode="tensor"``, the full bond-based operator) or 1
-    (``mode="scalar"``, seed 003 eq. 9). The family, partial volumes, micromodulus
+    (``mode="scalar"``, PD wave dispersion (n.d.), eq. 9). The family, partial volumes, micromodulus
     profile and surface correction are those of ``model`` (a
     :class:`~peridynamics.model.Model`); ``point`` should be an interior point.
 
@@ -287,7 +293,7 @@ def advise_1d(
     safety: float = 0.8,
 ) -> Advice:
     """Coarsest dx (and its m) whose phase-speed error stays below ``tolerance`` for all
-    frequencies up to ``frequency`` (Hz), with the seed-000 stencil and central
+    frequencies up to ``frequency`` (Hz), with the Lu & Wang (2016) stencil and central
     differences at ``safety`` x the stable step.
 
     For each m the largest dx is found by bisection; the advice is the m >= ``m_min``
@@ -335,7 +341,7 @@ def advise_1d(
 
 
 def _stable_fraction_1d(m: int) -> float:
-    """Silling-Askari stable step of the seed-000 stencil in units of dx/c:
+    """Silling-Askari stable step of the Lu & Wang (2016) stencil in units of dx/c:
     sqrt(2 rho / sum_q 2 w_q c_pd A dx / (q dx)) = m / sqrt(2 sum_q w_q / q)."""
     q = np.arange(1, m + 1)
     return float(m / np.sqrt(2.0 * np.sum(discrete_weights_1d(m) / q)))
@@ -343,7 +349,7 @@ def _stable_fraction_1d(m: int) -> float:
 
 @dataclass(frozen=True)
 class ViscousDispersion:
-    """Seed 003 eqs 40-44 with linear viscosity b1; arrays shape (n,) against N_h.
+    """PD wave dispersion (n.d.), eqs 40-44 with linear viscosity b1; arrays shape (n,) against N_h.
 
     ``v_real_over_v0`` and ``v_imag_over_v0`` are the real and imaginary parts of the
     complex phase velocity v' (a wave decays as exp(kappa v_imag t)); ``damping_ratio``
@@ -361,15 +367,16 @@ class ViscousDispersion:
 
 
 def viscous_1d(N_h: ArrayLike, m: float = 3.015, b1: float = 0.5) -> ViscousDispersion:
-    """Complex phase velocity of 1-D PD with the linear bond viscosity of seed 003.
+    """Complex phase velocity of 1-D PD with the linear bond viscosity of PD wave dispersion
+    (n.d.), eqs 36-44.
 
     With gamma = b1 delta / (4 v0) (the rate constant equivalent to f_1 = b1 alpha_p zeta,
     see :mod:`peridynamics.materials.viscosity`) eq. 41 has the root (eq. 42)
     v' = -i gamma M / (2 rho kappa) + sqrt(M / (rho kappa^2) - (gamma M / (2 rho kappa))^2),
     i.e. v_i / v0 = -(b1 pi N_h m / 4) (v/v0)^2 and |v_i / v| = (b1 / 4) sqrt(S) with
     S = sum_j (1 - cos 2 pi N_h j) / j (eq. 44): periodic in N_h like omega, so the damping
-    is not selective (seed 003 Fig. 7). Where |v_i| exceeds v the wave is overdamped and
-    the real part is 0.
+    is not selective (PD wave dispersion (n.d.), Fig. 7). Where |v_i| exceeds v the wave is
+    overdamped and the real part is 0.
     """
     if not (np.isfinite(b1) and b1 >= 0):
         raise ValueError(f"b1 must be a finite number >= 0, got {b1}")

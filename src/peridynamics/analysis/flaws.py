@@ -1,5 +1,5 @@
 """Crack initiation at flaw tips and coalescence between flaws, from damage fields
-(seed 001: wing cracks, coalescence of two flaws). 2-D.
+(SED-PD (2021): wing cracks, coalescence of two flaws). 2-D.
 
 All functions take point coordinates ``x`` (n, 2), the damage ``phi`` (n,) of a state
 and the damage ``phi0`` (n,) at t = 0 (what the flaws themselves cause), and look at the

@@ -1,7 +1,8 @@
 """Reference solution for a thick ring loaded by a pressure history on its inner surface.
 
-Radially symmetric elastodynamics of an annulus a <= r <= b (the ring of seed 003 section
-4.5.3, loaded by a blast on the wall of its cavity) in the radial displacement u(r, t) (m):
+Radially symmetric elastodynamics of an annulus a <= r <= b (the ring of PD wave dispersion
+(n.d.), section 4.2, loaded by a blast on the wall of its cavity) in the radial displacement
+u(r, t) (m):
 
     rho u_tt = M (u_rr + u_r / r - u / r**2)
     sigma_rr = M u_r + lam u / r,        sigma_tt = lam u_r + M u / r          (Pa)
@@ -13,8 +14,8 @@ Radially symmetric elastodynamics of an annulus a <= r <= b (the ring of seed 00
     plane strain:  M = lambda + 2 mu = E (1 - nu) / ((1 + nu)(1 - 2 nu)),  lam = lambda
 
 with the dilatational wave speed c_p = sqrt(M / rho) (m/s). Two-dimensional bond-based
-peridynamics fixes nu = 1/3, so the ring of seed 003 is compared with plane stress and
-nu = 1/3. The equation and the cylindrical spreading of a pulse emitted by a cavity
+peridynamics fixes nu = 1/3, so the ring of PD wave dispersion (n.d.) is compared with plane
+stress and nu = 1/3. The equation and the cylindrical spreading of a pulse emitted by a cavity
 (amplitude ~ sqrt(a / r) far from the wall) are those of J. D. Achenbach, *Wave
 Propagation in Elastic Solids* (North-Holland, 1973), chapters 2 and 4 (radially symmetric
 waves, cavity under internal pressure). The static limit is Lame's thick cylinder; in plane

@@ -1,6 +1,6 @@
 """Wave-propagation post-processing: exact d'Alembert pulses, error measures against
-them, the dominant period of a history and its energy spectral density (seed 003
-sections 4.5.1-4.5.2)."""
+them, the dominant period of a history and its energy spectral density (PD wave
+dispersion (n.d.), sections 4.1.1-4.1.2)."""
 
 from __future__ import annotations
 
@@ -103,7 +103,7 @@ def dominant_period(t: ArrayLike, y: ArrayLike, min_period: float = 0.0) -> floa
 
 def energy_spectral_density(t: ArrayLike, y: ArrayLike) -> tuple[F, F]:
     """(f (Hz), |Y(f)|^2 dt^2) of a uniformly sampled history: the energy spectral density
-    of seed 003 Figs 15-19 (one-sided, unnormalised by the record length)."""
+    of PD wave dispersion (n.d.), Figs 15-19 (one-sided, unnormalised by the record length)."""
     t, y = np.asarray(t, dtype=float), np.asarray(y, dtype=float)
     dt = float(np.mean(np.diff(t)))
     spec = np.fft.rfft(y) * dt

@@ -123,7 +123,7 @@ def build_bonds(
     horizon : float
         delta (m); must be >= the grid spacing.
     partial_volume : {"truncated", "extended", "none"}
-        Partial-volume rule (seed 000 eq. 9 / seed 001 eq. 11 / none).
+        Partial-volume rule (Lu & Wang (2016), eq. 9 / SED-PD (2021), eq. 11 / none).
     cracks : sequence of cracks
         Pre-cracks; bonds crossing them start broken.
 

@@ -1,12 +1,14 @@
 """Partial-volume ("volume correction") factors beta(|xi|) in [0, 1].
 
-Two forms appear in the seeds (SPEC.md section 0.2):
+Two forms appear in the papers this package implements (full references in
+docs/references.md):
 
-* ``"truncated"`` -- seed 000 eq. 9 (Silling & Askari 2005; identical to Madenci &
+* ``"truncated"`` -- Lu & Wang (2016), eq. 9 (Silling & Askari 2005; identical to Madenci &
   Oterkus 2014): beta = 1 for |xi| <= delta - dx/2, beta = (delta - |xi|)/dx + 1/2 for
   delta - dx/2 < |xi| <= delta, 0 beyond delta. A node exactly at |xi| = delta gets 1/2,
-  which makes PD with delta = dx identical to central finite differences (seed 000 eq. 17).
-* ``"extended"`` -- seed 001 eq. 11: beta = 1 for |xi| <= delta - dx/2,
+  which makes PD with delta = dx identical to central finite differences (Lu & Wang (2016),
+  eq. 17).
+* ``"extended"`` -- SED-PD (2021), eq. 11: beta = 1 for |xi| <= delta - dx/2,
   beta = (delta + dx/2 - |xi|)/dx for delta - dx/2 < |xi| < delta + dx/2, 0 beyond: the
   family reaches delta + dx/2.
 * ``"none"`` -- beta = 1 inside delta.

@@ -1,4 +1,5 @@
-"""Critical-stretch damage (PMB): a bond breaks for good once s >= s0 (seed 000 eq. 5).
+"""Critical-stretch damage (PMB): a bond breaks for good once s >= s0 (Lu & Wang (2016),
+eq. 5).
 
 The bond threshold is the mean of its end points' critical stretch, so per-point
 fields (Weibull heterogeneity, "no-fail" zones with s0 = inf) enter symmetrically.
@@ -8,12 +9,17 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.damage.weibull import WeibullField
+from peridynamics.models.base import DamageLaw
+
+if TYPE_CHECKING:
+    from peridynamics.state import State
 
 
 @dataclass(frozen=True)
@@ -27,7 +33,7 @@ class CriticalStretch:
     no_fail : (k,) int array, optional
         Points whose bonds never break (any bond touching them is kept).
     weibull : WeibullField, optional
-        Per-point heterogeneity: s0_i = s0 x factor_i (seed 001 eqs 25-26).
+        Per-point heterogeneity: s0_i = s0 x factor_i (SED-PD (2021), eqs 25-26).
     """
 
     critical_stretch: float
@@ -38,11 +44,14 @@ class CriticalStretch:
         if not self.critical_stretch > 0 or math.isnan(self.critical_stretch):
             raise ValueError(f"critical_stretch must be > 0, got {self.critical_stretch}")
 
-    def point_threshold(self, n_points: int) -> NDArray[np.float64]:
-        """Per-point s0, shape (n_points,), inf on no-fail points."""
+    def point_threshold(
+        self, n_points: int, global_ids: NDArray[np.int64] | None = None
+    ) -> NDArray[np.float64]:
+        """Per-point s0, shape (n_points,), inf on no-fail points. Weibull factors are
+        drawn by global point id (``arange(n_points)`` when not given)."""
         s0 = np.full(n_points, float(self.critical_stretch))
         if self.weibull is not None:
-            s0 = s0 * self.weibull.stretch_factors(n_points)
+            s0 = s0 * self.weibull.stretch_factors(n_points, global_ids)
         if self.no_fail is not None and len(self.no_fail):
             s0[np.asarray(self.no_fail)] = np.inf
         return s0
@@ -55,3 +64,67 @@ def family_minimum(bonds: Bonds, s0: NDArray[np.float64]) -> NDArray[np.float64]
 
 
 NO_DAMAGE = CriticalStretch(critical_stretch=math.inf)
+
+
+class CriticalStretchLaw(DamageLaw):
+    """The critical-stretch criterion bound to one model's points and bonds.
+
+    ``trial`` marks the intact bonds whose stretch reaches (s0_i + s0_j)/2 at the
+    state's displacement; ``commit`` breaks them for good. An explicit solver commits
+    every step; dynamic relaxation and static solvers commit on an accepted load step.
+
+    Parameters
+    ----------
+    criterion : CriticalStretch
+    x : (n, dim) reference positions (m).
+    bonds : Bonds
+    global_ids : (n,) global point ids, optional
+        Random fields (Weibull) are drawn by global id, so a distributed run draws the
+        same field as a serial one.
+    """
+
+    name = "critical_stretch"
+
+    def __init__(
+        self,
+        criterion: CriticalStretch,
+        x: NDArray[np.float64],
+        bonds: Bonds,
+        global_ids: NDArray[np.int64] | None = None,
+    ) -> None:
+        self.criterion = criterion
+        self.x = x
+        self.bonds = bonds
+        n = len(bonds.offsets) - 1
+        self.point_s0 = criterion.point_threshold(n, global_ids)
+        self.family_s0_min = family_minimum(bonds, self.point_s0)
+        self._inv_length = 1.0 / bonds.bond_length
+        self._proposed = np.zeros(bonds.n_bonds, dtype=np.uint8)
+        self._count = 0
+
+    @property
+    def active(self) -> bool:
+        return bool(np.isfinite(self.point_s0).any())
+
+    def trial(self, state: State) -> int:
+        from peridynamics.kernels.bond_based import break_trial
+
+        if not self.active:
+            self._count = 0
+            return 0
+        b = self.bonds
+        self._count = int(
+            break_trial(
+                self.x, state.u, b.offsets, b.bond_j, self._inv_length, state.intact,
+                self.point_s0, self._proposed,
+            )
+        )  # fmt: skip
+        return self._count
+
+    def commit(self, state: State) -> int:
+        if self._count == 0:
+            return 0
+        state.intact[self._proposed.view(bool)] = 0
+        n, self._count = self._count, 0
+        state.bonds_broken += n
+        return n

@@ -51,15 +51,27 @@ class WeibullField:
         if self.u0_is not in ("scale", "mean"):
             raise ValueError(f"weibull.u0_is: unknown {self.u0_is!r}")
 
-    def sample(self, n: int, u0: float = 1.0) -> NDArray[np.float64]:
-        """n Weibull values u_i (in the units of u0), shape (n,)."""
+    def sample(
+        self, n: int, u0: float = 1.0, global_ids: NDArray[np.int64] | None = None
+    ) -> NDArray[np.float64]:
+        """Weibull values u_i (in the units of u0), shape (n,), or one per entry of
+        ``global_ids``: the value of a point depends on its global id only (the stream
+        is drawn up to the largest id), so any partition of the points into ranks draws
+        the same field."""
         rng = np.random.default_rng(self.seed)
-        uniform = rng.random(n)
+        if global_ids is None:
+            uniform = rng.random(n)
+        else:
+            ids = np.asarray(global_ids)
+            uniform = rng.random(int(ids.max()) + 1 if ids.size else 0)[ids]
         scale = u0 if self.u0_is == "scale" else u0 / math.gamma(1.0 + 1.0 / self.shape)
         # 1 - U is in (0, 1]: -log never sees 0
         return scale * (-np.log1p(-uniform)) ** (1.0 / self.shape)
 
-    def stretch_factors(self, n: int) -> NDArray[np.float64]:
-        """s_i / s0, shape (n,): sqrt(G_i / u0) or u_i / u0."""
-        u = self.sample(n, 1.0)
+    def stretch_factors(
+        self, n: int, global_ids: NDArray[np.int64] | None = None
+    ) -> NDArray[np.float64]:
+        """s_i / s0, shape (n,): sqrt(G_i / u0) or u_i / u0 (by global id, see
+        :meth:`sample`)."""
+        u = self.sample(n, 1.0, global_ids)
         return np.sqrt(u) if self.variable == "fracture_energy" else u

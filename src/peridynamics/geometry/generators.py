@@ -1,7 +1,7 @@
 """Regular-grid generators for 1-D bars, 2-D plates and 3-D boxes and cylinders.
 
 Points sit at cell centres of a uniform grid of spacing ``dx`` unless
-``nodes_on_boundary=True`` (1-D), where they sit on ``x_i = i dx`` as in seed 000.
+``nodes_on_boundary=True`` (1-D), where they sit on ``x_i = i dx`` as in Lu & Wang (2016).
 """
 
 from __future__ import annotations
@@ -44,7 +44,7 @@ def bar(
     """1-D bar of cross-section ``area`` (m^2).
 
     ``nodes_on_boundary=True`` puts ``length/dx + 1`` nodes at ``origin + i*dx`` (the end
-    nodes get the full volume ``area*dx``, as in seed 000 section 3); otherwise
+    nodes get the full volume ``area*dx``, as in Lu & Wang (2016), section 3); otherwise
     ``length/dx`` nodes sit at cell centres.
     """
     if nodes_on_boundary:

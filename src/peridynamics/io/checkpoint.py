@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from peridynamics.solvers.state import State
+from peridynamics.state import State
 
 CHECKPOINT_NAME = "checkpoint.npz"
 
@@ -19,16 +19,14 @@ def write_checkpoint(
     state: State,
     records: dict[str, Any],
     fingerprint: str,
-    model_state: dict[str, np.ndarray] | None = None,
 ) -> Path:
     """Write ``out_dir/checkpoint.npz`` atomically (write a temporary file, then rename).
 
-    ``model_state`` holds history variables that live in the model (the SED softening
-    levels), stored as ``model_<name>``."""
+    Every field of the State is stored, whatever the model family declared (history
+    fields such as the SED levels included), as ``state_<name>``."""
     path = out_dir / CHECKPOINT_NAME
     tmp = out_dir / (CHECKPOINT_NAME + ".tmp")
     arrays: dict[str, Any] = {f"state_{k}": v for k, v in state.to_arrays().items()}
-    arrays.update({f"model_{k}": v for k, v in (model_state or {}).items()})
     arrays["records_json"] = np.frombuffer(json.dumps(records).encode(), dtype=np.uint8)
     arrays["fingerprint"] = np.frombuffer(fingerprint.encode(), dtype=np.uint8)
     with open(tmp, "wb") as fh:
@@ -39,11 +37,8 @@ def write_checkpoint(
     return path
 
 
-def read_checkpoint(
-    out_dir: Path,
-) -> tuple[State, dict[str, Any], str, dict[str, np.ndarray]]:
-    """Read the checkpoint in ``out_dir``: (state, records, deck fingerprint, model
-    history arrays)."""
+def read_checkpoint(out_dir: Path) -> tuple[State, dict[str, Any], str]:
+    """Read the checkpoint in ``out_dir``: (state, records, deck fingerprint)."""
     path = out_dir / CHECKPOINT_NAME
     if not path.exists():
         raise FileNotFoundError(f"no checkpoint in {str(out_dir)!r} (expected {CHECKPOINT_NAME})")
@@ -51,5 +46,4 @@ def read_checkpoint(
         state = State.from_arrays({k[6:]: data[k] for k in data.files if k.startswith("state_")})
         records = json.loads(bytes(data["records_json"]).decode())
         fingerprint = bytes(data["fingerprint"]).decode()
-        model_state = {k[6:]: data[k].copy() for k in data.files if k.startswith("model_")}
-    return state, records, fingerprint, model_state
+    return state, records, fingerprint

@@ -16,7 +16,9 @@ from pydantic import (
     BaseModel,
     BeforeValidator,
     ConfigDict,
+    Discriminator,
     Field,
+    Tag,
     ValidationError,
     field_validator,
     model_validator,
@@ -247,7 +249,7 @@ class Viscosity(Strict):
 
 
 class Material(Strict):
-    """Bond-based PMB material."""
+    """Bond-based PMB material (``model: pmb``, the default)."""
 
     model: Literal["pmb", "bond_based"] = "pmb"
     youngs_modulus: PosFloat
@@ -256,6 +258,42 @@ class Material(Strict):
     micromodulus_profile: Literal["constant", "conical"] = "constant"
     micromodulus: PosFloat | None = None  # N/m^6: overrides the energy-equivalent c
     viscosity: Viscosity | None = None
+
+
+class LPSMaterialSpec(Strict):
+    """Ordinary state-based linear peridynamic solid (``model: lps``; Silling et al.
+    2007, 2-D forms of Le et al. 2014): any Poisson ratio in the admissible range."""
+
+    model: Literal["lps"]
+    youngs_modulus: PosFloat
+    density: PosFloat
+    poisson_ratio: Annotated[float, Field(gt=-1.0, lt=0.5, allow_inf_nan=False), _Num] = 0.25
+    viscosity: Viscosity | None = None
+
+
+#: the registry of model families: deck name -> schema of its material section
+MATERIAL_SCHEMAS: dict[str, type[Strict]] = {
+    "pmb": Material,
+    "bond_based": Material,
+    "lps": LPSMaterialSpec,
+}
+
+
+def _tag(default: str, key: str) -> Any:
+    def pick(v: Any) -> str:
+        if isinstance(v, dict):
+            return str(v.get(key, default))
+        return str(getattr(v, key, default))
+
+    return pick
+
+
+AnyMaterial = Annotated[
+    Annotated[Material, Tag("pmb")]
+    | Annotated[Material, Tag("bond_based")]
+    | Annotated[LPSMaterialSpec, Tag("lps")],
+    Discriminator(_tag("pmb", "model")),
+]
 
 
 class WeibullSpec(Strict):
@@ -504,7 +542,7 @@ class Hybrid(Strict):
 
 
 class Solver(Strict):
-    """Explicit dynamics."""
+    """Explicit dynamics (``type: explicit``, the default)."""
 
     type: Literal["explicit"] = "explicit"
     method: Literal["pd", "fdm"] = "pd"
@@ -533,6 +571,30 @@ class Solver(Strict):
 
 
 # ----------------------------------------------------------------------------- output
+
+
+class ADRSolverSpec(Strict):
+    """Adaptive dynamic relaxation to static equilibrium (``type: adr``; Kilic & Madenci
+    2010), loads applied in ``load_steps`` proportional steps, damage committed per
+    accepted load step."""
+
+    type: Literal["adr"]
+    load_steps: Annotated[int, Field(ge=1, le=1_000_000), _Num] = 1
+    tolerance: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False), _Num] = 1e-8
+    max_iterations: Annotated[int, Field(ge=1), _Num] = 200_000
+    proportional: bool = True
+    max_damage_rounds: Annotated[int, Field(ge=1), _Num] = 50
+
+
+#: the registry of solvers: deck name -> schema of its section
+SOLVER_SCHEMAS: dict[str, type[Strict]] = {"explicit": Solver, "adr": ADRSolverSpec}
+
+AnySolver = Annotated[
+    Annotated[Solver, Tag("explicit")] | Annotated[ADRSolverSpec, Tag("adr")],
+    Discriminator(_tag("explicit", "type")),
+]
+
+
 Quantity = Literal[
     "displacement",
     "velocity",
@@ -646,13 +708,13 @@ class Deck(Strict):
     description: str = ""
     geometry: Geometry
     discretisation: Discretisation
-    material: Material
+    material: AnyMaterial
     damage: Damage = Damage(model="none")
     node_sets: dict[str, RegionSpec] = {}
     precracks: list[Precrack] = []
     contact: Contact | None = None
     boundary_conditions: list[BoundaryCondition] = []
-    solver: Solver
+    solver: AnySolver
     output: Output = Output()
 
     @field_validator("name")
@@ -760,7 +822,8 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
         _check_region(errors, f"geometry.holes.{n}", hole, dim, set())
     plane = getattr(g, "plane", None)
     nu_fixed = fixed_poisson_ratio(dim, plane if dim == 2 else None)
-    nu = deck.material.poisson_ratio
+    mat = deck.material
+    nu = mat.poisson_ratio if isinstance(mat, Material) else None
     if nu is not None and nu_fixed is not None and abs(nu - nu_fixed) > 1e-6:
         what = f"{dim}-D" + (f" plane {plane}" if dim == 2 else "")
         errors.append(
@@ -770,7 +833,18 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
                 "(omit poisson_ratio or set it to that value)",
             )
         )
-    if deck.material.micromodulus is not None and deck.damage.fracture_energy is not None:
+    if isinstance(mat, LPSMaterialSpec):
+        if dim == 1:
+            errors.append(("material.model", "lps is a 2-D / 3-D model; use pmb for bars"))
+        if deck.damage.sed_softening is not None:
+            errors.append(
+                ("damage.sed_softening", "softens bond stiffness: needs material.model pmb")
+            )
+    if (
+        isinstance(mat, Material)
+        and mat.micromodulus is not None
+        and deck.damage.fracture_energy is not None
+    ):
         errors.append(
             (
                 "damage.fracture_energy",
@@ -842,7 +916,8 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
     if deck.output.wave_comparison is not None and deck.dim != 1:
         errors.append(("output.wave_comparison", "the d'Alembert comparison is 1-D"))
     if deck.dim != 1:
-        if deck.solver.method == "fdm" or deck.solver.hybrid is not None:
+        sv = deck.solver
+        if isinstance(sv, Solver) and (sv.method == "fdm" or sv.hybrid is not None):
             errors.append(("solver.method", "finite differences and hybrids are 1-D"))
         for n, probe in enumerate(deck.output.probes):
             if probe.quantity == "section_stress":
@@ -898,12 +973,16 @@ _TYPE_TAGS = {
     "traction",
     "pressure",
 }
+#: tags of the callable-discriminated sections (model families, solvers)
+_SECTION_TAGS = {"material": set(MATERIAL_SCHEMAS), "solver": set(SOLVER_SCHEMAS)}
 
 
 def _clean_loc(loc: tuple[Any, ...]) -> tuple[Any, ...]:
     # drop discriminator tags that pydantic inserts into the location
     out = []
     for n, p in enumerate(loc):
+        if n > 0 and loc[n - 1] in _SECTION_TAGS and p in _SECTION_TAGS[loc[n - 1]]:
+            continue
         if isinstance(p, str) and p in _TYPE_TAGS and n > 0 and loc[n - 1] not in ("type",):
             prev = loc[n - 1]
             if isinstance(prev, int) or prev in ("geometry", "time_function"):
@@ -917,7 +996,11 @@ _ALLOWED_TYPES = {
     "boundary_conditions": "displacement, velocity, fixed, initial_velocity, body_force, "
     "traction, pressure",
     "time_function": "constant, ramp, table, triangular_pulse",
+    "material": ", ".join(MATERIAL_SCHEMAS),
+    "solver": ", ".join(SOLVER_SCHEMAS),
 }
+#: the key that names the kind of a section (``type`` unless listed)
+_TAG_KEY = {"material": "model"}
 
 
 def _section_of(path: str) -> str:
@@ -937,12 +1020,13 @@ def validation_errors(exc: ValidationError) -> list[tuple[str, str]]:
             msg = "required key is missing"
         elif e["type"] in ("union_tag_not_found", "union_tag_invalid"):
             kinds = _ALLOWED_TYPES.get(_section_of(path), "")
+            key = _TAG_KEY.get(_section_of(path), "type")
             missing = e["type"] == "union_tag_not_found"
-            msg = ("required key 'type' is missing" if missing else "unknown type") + (
+            msg = (f"required key '{key}' is missing" if missing else f"unknown {key}") + (
                 f"; one of: {kinds}" if kinds else ""
             )
             if not missing:
-                path = f"{path}.type" if path else "type"
+                path = f"{path}.{key}" if path else key
         msg = msg.removeprefix("Value error, ")
         if msg.startswith("[") and "] " in msg:  # validator names the offending key
             key, msg = msg[1:].split("] ", 1)

@@ -135,7 +135,7 @@ def force_1d(
     -------
     int : number of directed bonds broken by this call.
     """
-    n = x.shape[0]
+    n = offsets.shape[0] - 1  # points that own a family (ghosts, if any, follow)
     for i in prange(n):
         f0, smax = _family_1d(i, x, u, offsets, bond_j, inv_length, stiffness, intact)
         nbroken[i] = 0
@@ -154,7 +154,7 @@ def force_2d(
     x, u, offsets, bond_j, inv_length, stiffness, intact, s0, s0_min, force, smax_out, nbroken
 ):
     """2-D bond force density (N/m^3) with bond breaking; arguments as :func:`force_1d`."""
-    n = x.shape[0]
+    n = offsets.shape[0] - 1  # points that own a family (ghosts, if any, follow)
     for i in prange(n):
         f0, f1, smax = _family_2d(i, x, u, offsets, bond_j, inv_length, stiffness, intact)
         nbroken[i] = 0
@@ -174,7 +174,7 @@ def force_3d(
     x, u, offsets, bond_j, inv_length, stiffness, intact, s0, s0_min, force, smax_out, nbroken
 ):
     """3-D bond force density (N/m^3) with bond breaking; arguments as :func:`force_1d`."""
-    n = x.shape[0]
+    n = offsets.shape[0] - 1  # points that own a family (ghosts, if any, follow)
     for i in prange(n):
         f0, f1, f2, smax = _family_3d(i, x, u, offsets, bond_j, inv_length, stiffness, intact)
         nbroken[i] = 0
@@ -227,7 +227,7 @@ def force_sed_2d(
     """:func:`force_2d` that also fills ``energy`` (n,) with the SED of seed 001 eq. 22
     from the initial stiffness (``k0l`` = stiffness0 |xi| / 4, (n_bonds,)), in the same
     pass over the bonds: the softening update then needs no bond loop of its own."""
-    n = x.shape[0]
+    n = offsets.shape[0] - 1  # points that own a family (ghosts, if any, follow)
     for i in prange(n):
         f0, f1, smax, w = _family_2d_sed(
             i, x, u, offsets, bond_j, inv_length, stiffness, intact, k0l, tensile
@@ -253,7 +253,7 @@ FORCE_KERNELS = {1: force_1d, 2: force_2d, 3: force_3d}
 @_exact
 def bond_stretch(x, u, offsets, bond_j, length, out):
     """Stretch of every directed bond, shape (n_bonds,)."""
-    n, d = x.shape
+    n, d = offsets.shape[0] - 1, x.shape[1]
     for i in prange(n):
         for k in range(offsets[i], offsets[i + 1]):
             j = bond_j[k]
@@ -267,7 +267,7 @@ def bond_stretch(x, u, offsets, bond_j, length, out):
 @_exact
 def strain_energy_density(x, u, offsets, bond_j, length, stiffness, intact, out):
     """Point strain-energy density W_i = 1/4 sum_k stiffness_k mu_k s_k^2 |xi_k| (J/m^3)."""
-    n, d = x.shape
+    n, d = offsets.shape[0] - 1, x.shape[1]
     for i in prange(n):
         w = 0.0
         for k in range(offsets[i], offsets[i + 1]):
@@ -317,6 +317,43 @@ def damage(offsets, bond_volume, intact, out):
             if not intact[k]:
                 lost += bond_volume[k]
         out[i] = lost / tot if tot > 0 else 0.0
+
+
+@_exact
+def stiffness_bound_per_point(offsets, length, stiffness, out):
+    """K_i = sum_k stiffness_k / |xi_k| (N/m^5), the Silling & Askari (2005) bound."""
+    n = offsets.shape[0] - 1
+    for i in prange(n):
+        acc = 0.0
+        for k in range(offsets[i], offsets[i + 1]):
+            acc += stiffness[k] / length[k]
+        out[i] = acc
+
+
+@_exact
+def break_trial(x, u, offsets, bond_j, inv_length, intact, s0, proposed):
+    """Critical-stretch trial: ``proposed[k] = 1`` for every intact bond whose stretch
+    reaches (s0_i + s0_j) / 2, else 0; ``intact`` is not changed. Returns the number of
+    directed bonds proposed. The stretch is computed as in the force kernels'
+    breaking pass, so both directions of a bond get the same decision."""
+    n = offsets.shape[0] - 1
+    d = x.shape[1]
+    count = 0
+    for i in prange(n):
+        for k in range(offsets[i], offsets[i + 1]):
+            proposed[k] = 0
+            if not intact[k]:
+                continue
+            j = bond_j[k]
+            r2 = 0.0
+            for c in range(d):
+                e = (x[j, c] - x[i, c]) + (u[j, c] - u[i, c])
+                r2 += e * e
+            s = np.sqrt(r2) * inv_length[k] - 1.0
+            if s >= 0.5 * (s0[i] + s0[j]):
+                proposed[k] = 1
+                count += 1
+    return count
 
 
 @_exact

@@ -1,4 +1,4 @@
-"""Numba kernel of the 1-D central finite-difference operator (seed 000 eq. 17).
+"""Numba kernel of the 1-D central finite-difference operator (Lu & Wang (2016), eq. 17).
 
 A serial loop: one pass over the nodes, three loads and a store each, so a thread pool
 would cost more than it saves on any bar a 1-D run uses. The NumPy twin is

@@ -1,4 +1,6 @@
-"""Fused explicit-integration updates (Numba), in place on (n_points, dim) arrays."""
+"""Fused explicit-integration updates (Numba), in place on (n_points, n_components)
+arrays; ``inv_mass`` (n_points, n_components) is the inverse mass density of each
+component (1/rho for displacements, the inverse rotational inertia for rotations)."""
 
 from __future__ import annotations
 
@@ -8,28 +10,28 @@ _kernel = njit(parallel=True, fastmath=False, cache=True)
 
 
 @_kernel
-def kick_drift(u, v, force, body, inv_rho, dt):
+def kick_drift(u, v, force, body, inv_mass, dt):
     """Velocity Verlet first half: v += dt/2 * a; u += dt * v, with a = (f + b) / rho."""
     n, d = u.shape
     h = 0.5 * dt
     for i in prange(n):
         for c in range(d):
-            v[i, c] += h * (force[i, c] + body[i, c]) * inv_rho[i]
+            v[i, c] += h * (force[i, c] + body[i, c]) * inv_mass[i, c]
             u[i, c] += dt * v[i, c]
 
 
 @_kernel
-def kick(v, force, body, inv_rho, dt):
+def kick(v, force, body, inv_mass, dt):
     """Velocity Verlet second half: v += dt/2 * a."""
     n, d = v.shape
     h = 0.5 * dt
     for i in prange(n):
         for c in range(d):
-            v[i, c] += h * (force[i, c] + body[i, c]) * inv_rho[i]
+            v[i, c] += h * (force[i, c] + body[i, c]) * inv_mass[i, c]
 
 
 @_kernel
-def central_difference(u, u_prev, v, force, body, inv_rho, dt):
+def central_difference(u, u_prev, v, force, body, inv_mass, dt):
     """Central difference (seed 000 eq. 10): u+ = 2u - u- + dt^2 a.
 
     On return ``u_prev`` holds the old ``u`` and ``v`` the mid-step velocity
@@ -40,18 +42,20 @@ def central_difference(u, u_prev, v, force, body, inv_rho, dt):
     for i in prange(n):
         for c in range(d):
             un = u[i, c]
-            new = 2.0 * un - u_prev[i, c] + dt2 * (force[i, c] + body[i, c]) * inv_rho[i]
+            new = 2.0 * un - u_prev[i, c] + dt2 * (force[i, c] + body[i, c]) * inv_mass[i, c]
             u_prev[i, c] = un
             u[i, c] = new
             v[i, c] = (new - un) / dt
 
 
 @_kernel
-def end_of_step_velocity(u, u_prev, v, force, body, inv_rho, dt):
+def end_of_step_velocity(u, u_prev, v, force, body, inv_mass, dt):
     """Central difference: v(t) = (u - u_prev)/dt + dt/2 a(t), the velocity at the end of
     the step (equal to velocity Verlet's), after the forces at t are known."""
     n, d = u.shape
     h = 0.5 * dt
     for i in prange(n):
         for c in range(d):
-            v[i, c] = (u[i, c] - u_prev[i, c]) / dt + h * (force[i, c] + body[i, c]) * inv_rho[i]
+            v[i, c] = (u[i, c] - u_prev[i, c]) / dt + h * (force[i, c] + body[i, c]) * inv_mass[
+                i, c
+            ]

@@ -51,7 +51,7 @@ def sed_update(
     Returns the number of points whose level rose; the caller then rebuilds the bond
     stiffness with :func:`sed_stiffness_raised`.
     """
-    n, d = x.shape
+    n, d = offsets.shape[0] - 1, x.shape[1]
     changed = 0
     for i in prange(n):
         w = 0.0
@@ -95,22 +95,22 @@ def _factor(lv, n_levels, residual):
 
 @njit(parallel=True, fastmath=False, cache=True)
 def sed_stiffness_raised(
-    offsets, bond_j, reverse, stiffness0, level, n_levels, residual, factor, stiffness, raised
+    offsets, bond_j, stiffness0, level, n_levels, residual, factor, stiffness, raised
 ):  # pragma: no cover - compiled
-    """:func:`sed_stiffness` for the bonds of the points flagged in ``raised`` only (both
-    directions, through ``reverse``): the same bits as a full rebuild, at a cost
-    proportional to the points whose level rose."""
+    """:func:`sed_stiffness` for the bonds that touch a point flagged in ``raised``: the
+    same bits as a full rebuild. Each point rewrites only its own bonds (bond k of point
+    i is rebuilt when i or its partner j rose), so no kernel writes another point's
+    data."""
     n = offsets.shape[0] - 1
     for i in prange(n):
         if raised[i]:
             factor[i] = _factor(level[i], n_levels, residual)
     for i in prange(n):
-        if raised[i]:
-            for k in range(offsets[i], offsets[i + 1]):
-                j = bond_j[k]
+        own = raised[i]
+        for k in range(offsets[i], offsets[i + 1]):
+            j = bond_j[k]
+            if own or raised[j]:
                 stiffness[k] = stiffness0[k] * 0.5 * (factor[i] + factor[j])
-                r = reverse[k]
-                stiffness[r] = stiffness0[r] * 0.5 * (factor[j] + factor[i])
 
 
 @njit(parallel=True, fastmath=False, cache=True)

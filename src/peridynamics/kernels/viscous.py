@@ -30,27 +30,40 @@ def add_viscous_force(
     ``v`` (n, dim) is the velocity the rates are taken from (the half-step velocity in
     the explicit solvers). Bonds whose deformed length is zero carry no force.
     """
-    n, d = x.shape
-    for i in prange(n):
-        acc = np.zeros(d)
-        e = np.empty(d)
+    n, d = offsets.shape[0] - 1, x.shape[1]
+    for i in prange(n):  # scalars only: no allocation inside the parallel loop
+        a0 = 0.0
+        a1 = 0.0
+        a2 = 0.0
         for k in range(offsets[i], offsets[i + 1]):
             if intact[k] == 0:
                 continue
             j = bond_j[k]
-            r2 = 0.0
-            for c in range(d):
-                e[c] = (x[j, c] - x[i, c]) + (u[j, c] - u[i, c])
-                r2 += e[c] * e[c]
+            e0 = (x[j, 0] - x[i, 0]) + (u[j, 0] - u[i, 0])
+            e1 = 0.0
+            e2 = 0.0
+            r2 = e0 * e0
+            rate = (v[j, 0] - v[i, 0]) * e0
+            if d > 1:
+                e1 = (x[j, 1] - x[i, 1]) + (u[j, 1] - u[i, 1])
+                r2 += e1 * e1
+            if d > 2:
+                e2 = (x[j, 2] - x[i, 2]) + (u[j, 2] - u[i, 2])
+                r2 += e2 * e2
             if r2 == 0.0:
                 continue
             inv_r = 1.0 / np.sqrt(r2)
-            rate = 0.0
-            for c in range(d):
-                rate += (v[j, c] - v[i, c]) * e[c]
+            if d > 1:
+                rate += (v[j, 1] - v[i, 1]) * e1
+            if d > 2:
+                rate += (v[j, 2] - v[i, 2]) * e2
             zeta = rate * inv_r * inv_length[k]
             f = weight[k] * (lin * zeta + quad * zeta * abs(zeta)) * inv_r
-            for c in range(d):
-                acc[c] += f * e[c]
-        for c in range(d):
-            force[i, c] += acc[c]
+            a0 += f * e0
+            a1 += f * e1
+            a2 += f * e2
+        force[i, 0] += a0
+        if d > 1:
+            force[i, 1] += a1
+        if d > 2:
+            force[i, 2] += a2

@@ -12,8 +12,9 @@ the *scaled* impulses (kPa ms / kg^(1/3)) and times (ms / kg^(1/3)); by Hopkinso
 physical impulses and times are the scaled values multiplied by ``W**(1/3)``.  This module returns
 SI units only (Pa, Pa s, s).
 
-This is the blast load model of seed 003 section 4.5.2 (bar loaded by blasts) and 4.5.3 (ring),
-reconstructed in SPEC section 4.5 of this project: normally reflected pressure ``P_r`` and
+This is the blast load of PD wave dispersion (n.d.), sections 4.1.2 (bar loaded by blasts) and
+4.2 (ring). The paper gives only "a pressure history, negative phase ignored"; this project
+reconstructs it (docs/theory_viscosity.md) as the normally reflected pressure ``P_r`` and
 impulse ``I_r``, applied as a triangular pulse of the UFC fictitious duration
 ``t_r = 2 I_r / P_r`` (default) or as a modified Friedlander pulse; the negative phase is ignored.
 The hemispherical surface-burst fits (Swisdak 1994) are deliberately *not* used (air burst).
@@ -317,8 +318,9 @@ class BlastParameters:
 def kingery_bulmash(charge_kg: float, standoff_m: float) -> BlastParameters:
     """Blast parameters of a spherical free-air burst of TNT (Kingery & Bulmash 1984).
 
-    Evaluates the Kingery-Bulmash free-air polynomials (UFC 3-340-02 Fig. 2-7; SPEC section 4.5,
-    seed 003 section 4.5.2)
+    Evaluates the Kingery-Bulmash free-air polynomials (UFC 3-340-02 Fig. 2-7; the blast
+    loads of PD wave dispersion (n.d.), section 4.1.2, as reconstructed in
+    docs/theory_viscosity.md)
 
         log10(Y) = sum_i C_i U**i,  U = K0 + K1 log10(Z),  Z = R / W**(1/3)  (m/kg^(1/3)),
 
@@ -401,8 +403,8 @@ def friedlander_decay(peak_Pa: float, duration_s: float, impulse_Pa_s: float) ->
 
         I = P t_d (b - 1 + exp(-b)) / b**2,
 
-    the integral over [0, t_d] of p(t) = P (1 - t/t_d) exp(-b t/t_d) (SPEC section 4.5.2).  The
-    right-hand side decreases from P t_d / 2 (b -> 0, triangle) to 0 (b -> inf), so a solution
+    the integral over [0, t_d] of p(t) = P (1 - t/t_d) exp(-b t/t_d) (docs/theory_viscosity.md).
+    The right-hand side decreases from P t_d / 2 (b -> 0, triangle) to 0 (b -> inf), so a solution
     exists only for 0 < I < P t_d / 2.
 
     Parameters
@@ -452,8 +454,9 @@ class BlastPulse(TimeFunction):
     ``__call__`` returns the PRESSURE (Pa); the boundary condition multiplies it by its own
     dimensionless scale.  ``t`` is measured from the shock arrival shifted by ``delay``:
     with tau = t - delay, p = 0 for tau < 0 and after the positive phase (negative phase ignored;
-    seed 003 section 4.5.2, SPEC section 4.5).  Parameters are computed once at construction with
-    :func:`kingery_bulmash` (which warns with ``BlastRangeWarning`` when Z is out of range).
+    PD wave dispersion (n.d.), section 4.1.2; docs/theory_viscosity.md).  Parameters are
+    computed once at construction with :func:`kingery_bulmash` (which warns with
+    ``BlastRangeWarning`` when Z is out of range).
 
     Shapes
     ------

@@ -83,7 +83,8 @@ class TriangularPulse(TimeFunction):
 @dataclass(frozen=True)
 class SinePulse(TimeFunction):
     """One period of a sine: f(t) = sin(2 pi t / duration) for 0 <= t <= duration, else 0
-    (seed 003 section 4.5.1 input wave, SPEC.md)."""
+    (an input wave of PD wave dispersion (n.d.), section 4.1.1; the paper does not print its
+    parameters, see examples/waves/README.md)."""
 
     duration: float
 
@@ -99,7 +100,8 @@ class SinePulse(TimeFunction):
 
 @dataclass(frozen=True)
 class SquarePulse(TimeFunction):
-    """f(t) = 1 for 0 <= t <= duration, else 0 (seed 003 section 4.5.1 square wave)."""
+    """f(t) = 1 for 0 <= t <= duration, else 0 (the square wave of PD wave dispersion (n.d.),
+    section 4.1.1)."""
 
     duration: float
 

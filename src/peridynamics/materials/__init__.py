@@ -2,6 +2,14 @@
 
 from peridynamics.materials.bond_based import PROFILES, BondBasedMaterial, fixed_poisson_ratio
 
-MATERIALS = {"pmb": BondBasedMaterial, "bond_based": BondBasedMaterial}
+
+def _lps(*args: object, **kw: object) -> object:
+    from peridynamics.materials.lps import LPSMaterial
+
+    return LPSMaterial(*args, **kw)  # type: ignore[arg-type]
+
+
+#: the registry of model families: ``material.model`` -> material class (or factory)
+MATERIALS = {"pmb": BondBasedMaterial, "bond_based": BondBasedMaterial, "lps": _lps}
 
 __all__ = ["MATERIALS", "PROFILES", "BondBasedMaterial", "fixed_poisson_ratio"]

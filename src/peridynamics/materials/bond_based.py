@@ -23,13 +23,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.geometry.cloud import PointCloud
+
+if TYPE_CHECKING:
+    from peridynamics.models.pmb import PMBForceModel
 
 Profile = Literal["constant", "conical"]
 PROFILES: tuple[str, ...] = ("constant", "conical")
@@ -180,6 +183,14 @@ class BondBasedMaterial:
         k_d = {1: cross_section, 2: 2.0 * cross_section, 3: math.pi}[dim]
         integral = scale * c0 * horizon ** (dim + 2) * _energy_moment(self.profile, dim)
         return math.sqrt(2.0 * fracture_energy / (k_d * integral))
+
+    def force_model(
+        self, cloud: PointCloud, bonds: Bonds, surface_correction: bool = False
+    ) -> PMBForceModel:
+        """The PMB force model of this material on ``bonds``."""
+        from peridynamics.models.pmb import PMBForceModel
+
+        return PMBForceModel(cloud, bonds, self, surface_correction)
 
     def wave_speed(self) -> float:
         """Bar wave speed sqrt(E / rho) (m/s)."""

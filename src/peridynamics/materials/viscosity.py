@@ -1,16 +1,17 @@
-"""Viscous bond forces that damp the spurious short-wave oscillation of PD (seed 003).
+"""Viscous bond forces that damp the spurious short-wave oscillation of PD.
 
-Seed 003 (SPEC.md section 4.4) adds to every bond a force along its deformed direction
-that depends on the bond strain rate zeta = (eta_dot . n) / |xi| (eq. 52):
+PD wave dispersion (n.d.), section 3.2, adds to every bond a force along its deformed
+direction that depends on the bond strain rate zeta = (eta_dot . n) / |xi| (eq. 52):
 
 * linear ("bulk"):  f_1 = b1 alpha_p zeta,               alpha_p = rho v0 / V_H     (eq. 53)
 * quadratic:        f_2 = sign(zeta) alpha_q (b2 zeta)^2, alpha_q = rho delta / V_H  (eq. 55)
 * polynomial:       f = f_1 + f_2                                                    (eq. 56)
 
 with v0 = sqrt(E / rho) and V_H the horizon volume: 2 delta A (1-D), pi delta^2 h (2-D),
-4 pi delta^3 / 3 (3-D). b1 and b2 are dimensionless; the seed does not print the values
+4 pi delta^3 / 3 (3-D). b1 and b2 are dimensionless; the paper does not print the values
 it used, so the defaults of the polynomial form, b1 = 0.5 and b2 = 2.0, are our proposal
-(SPEC.md section 4.4, von Neumann-Richtmyer / Landshoff order of magnitude). In 1-D,
+(of the order of the classical artificial viscosities of von Neumann & Richtmyer 1950 and
+Landshoff 1955). In 1-D,
 b1 alpha_p equals gamma c of the rate form f_vs = gamma f_dot (eqs 36-39) with
 gamma = b1 delta / (4 v0) (units: s).
 

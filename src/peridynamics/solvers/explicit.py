@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 
@@ -23,7 +23,8 @@ from peridynamics.loading.conditions import (
     PrescribedVelocity,
 )
 from peridynamics.model import Model
-from peridynamics.solvers.state import State
+from peridynamics.solvers.base import StepResult
+from peridynamics.state import State
 
 Integrator = Literal["velocity_verlet", "central_difference"]
 INTEGRATORS: tuple[str, ...] = ("velocity_verlet", "central_difference")
@@ -79,6 +80,10 @@ class ExplicitSolver:
         An intact bond stretched more than this stops the run (integration blew up).
     check_every : int
         Steps between finiteness / blow-up checks.
+    steps, end_time : int, float, optional
+        Length of the run (at most one): ``done`` is true after ``steps`` steps or once
+        ``end_time`` (s) is reached; with neither the run ends only when the caller
+        stops stepping.
     """
 
     model: Model
@@ -91,6 +96,8 @@ class ExplicitSolver:
     blowup_factor: float = 1.0
     max_stretch: float = 1.0
     check_every: int = 10
+    steps: int | None = None
+    end_time: float | None = None
 
     def __post_init__(self) -> None:
         if self.integrator not in INTEGRATORS:
@@ -111,44 +118,57 @@ class ExplicitSolver:
                     f"{self.safety_factor} x the limit, or set allow_unstable: true"
                 )
             self.dt = float(self.time_step)
-        self._inv_rho = 1.0 / self.model.density
+        # per-component inverse mass of each degree-of-freedom group (kg/m^3)^-1
+        self._inv_mass = np.repeat((1.0 / self.model.density)[:, None], self.model.dim, axis=1)
         self._blowup_limit = self.blowup_factor * self.model.cloud.size
-        self._last_good: State | None = None
+        self.last_good: State | None = None
+        if self.steps is not None and self.end_time is not None:
+            raise ValueError("give at most one of steps and end_time")
+        self.n_steps: int | None = (
+            self.steps if self.end_time is None else self.steps_for(self.end_time)
+        )
 
     # -- life cycle --------------------------------------------------------------
     def init(self) -> State:
         """State at t = 0: initial velocities, constraints, forces."""
         m = self.model
-        n, d = m.n_points, m.dim
-        s = State(
-            t=0.0,
-            step=0,
-            u=np.zeros((n, d)),
-            v=np.zeros((n, d)),
-            force=np.zeros((n, d)),
-            body=np.zeros((n, d)),
-            u_prev=np.zeros((n, d)),
-            intact=m.bonds.bond_intact.copy(),
-            max_stretch=np.zeros(n),
-        )
+        s = m.new_state()
         for iv in self.initial_velocities:
             iv.apply_initial(s.v)
         self._apply_constraints(s, 0.0)
-        s.bonds_broken += m.internal_force(s.u, s.intact, s.force, s.max_stretch, s.v)
+        m.evaluate(s, commit=True)
         m.external_force(0.0, s.body)
         if self.integrator == "central_difference":
             # u(-dt) from a Taylor step so that u(dt) = u0 + dt v0 + dt^2/2 a0
-            a0 = (s.force + s.body) * self._inv_rho[:, None]
+            a0 = (s.force + s.body) * self._inv_mass
             s.u_prev[:] = s.u - self.dt * s.v + 0.5 * self.dt**2 * a0
-        self._last_good = s.copy()
-        self._warm_up(d)
+        self.last_good = s.copy()
+        self._warm_up(m.dim)
         return s
+
+    def resume(self, state: State) -> None:
+        """Continue from a State read from a checkpoint."""
+        self.model.on_restore(state)
+        self.last_good = state.copy()
+        self._warm_up(self.model.dim)
+
+    def done(self, state: State) -> bool:
+        """True after the run's steps (never without a run length)."""
+        return self.n_steps is not None and state.step >= self.n_steps
+
+    def total_steps(self) -> int:
+        """Steps of the whole run (0 without a run length)."""
+        return self.n_steps or 0
+
+    def summary_fields(self, state: State) -> dict[str, Any]:
+        """Time step and stable limit (s)."""
+        return {"time_step_s": self.dt, "stable_time_step_s": self.stable_time_step}
 
     def _warm_up(self, d: int) -> None:
         """Compile (or load from cache) the step kernels on tiny arrays of the same types,
         so that timings of the run measure stepping, not JIT compilation."""
         u, v, f, b = (np.zeros((1, d)) for _ in range(4))
-        inv = np.ones(1)
+        inv = np.ones((1, d))
         if self.integrator == "velocity_verlet":
             integrators.kick_drift(u, v, f, b, inv, 0.0)
             integrators.kick(v, f, b, inv, 0.0)
@@ -164,27 +184,28 @@ class ExplicitSolver:
             elif not isinstance(c, PrescribedVelocity):
                 c.apply(s.u, s.v, t, self.dt)
 
-    def step(self, s: State) -> State:
-        """Advance one step in place and return the state.
+    def step(self, s: State) -> StepResult:
+        """Advance one step in place.
 
         Both integrators leave ``v`` at the new time t + dt: velocity Verlet by its second
         half kick, central difference by v = (u+ - u)/dt + dt/2 a+ (the same value, so
-        kinetic energy and velocity probes agree between the two).
+        kinetic energy and velocity probes agree between the two). Damage is committed
+        at every step (the evaluation at the new positions).
         """
-        m, dt = self.model, self.dt
+        m, dt, inv = self.model, self.dt, self._inv_mass
         t_new = (s.step + 1) * dt
         if self.integrator == "velocity_verlet":
-            integrators.kick_drift(s.u, s.v, s.force, s.body, self._inv_rho, dt)
+            integrators.kick_drift(s.u, s.v, s.force, s.body, inv, dt)
         else:  # v holds the mid-step velocity (u+ - u)/dt after this call
-            integrators.central_difference(s.u, s.u_prev, s.v, s.force, s.body, self._inv_rho, dt)
+            integrators.central_difference(s.u, s.u_prev, s.v, s.force, s.body, inv, dt)
         for c in self.constraints:  # positions at t + dt
             c.apply(s.u, s.v, t_new, dt)
-        s.bonds_broken += m.internal_force(s.u, s.intact, s.force, s.max_stretch, s.v)
+        broken = m.evaluate(s, commit=True)
         m.external_force(t_new, s.body)
         if self.integrator == "velocity_verlet":
-            integrators.kick(s.v, s.force, s.body, self._inv_rho, dt)
+            integrators.kick(s.v, s.force, s.body, inv, dt)
         else:
-            integrators.end_of_step_velocity(s.u, s.u_prev, s.v, s.force, s.body, self._inv_rho, dt)
+            integrators.end_of_step_velocity(s.u, s.u_prev, s.v, s.force, s.body, inv, dt)
         for c in self.constraints:  # velocities at t + dt
             if isinstance(c, PrescribedVelocity):
                 c.set_velocity(s.v, t_new)
@@ -194,7 +215,7 @@ class ExplicitSolver:
         s.t = t_new
         if s.step % self.check_every == 0:
             self.check(s)
-        return s
+        return StepResult(broken=broken)
 
     def check(self, s: State) -> None:
         """Stop with :class:`SimulationUnstable` if the solution blew up; else remember
@@ -206,9 +227,10 @@ class ExplicitSolver:
         larger than ``blowup_factor`` times the model size.
         """
         limit = self._blowup_limit
-        shift = s.u.mean(axis=0)
+        comm = self.model.comm
+        shift = comm.sum_array(s.u.sum(axis=0)) / comm.sum(float(len(s.u)))
         k = int(bond_based.first_bad_point(s.u, s.v, shift, limit))
-        smax = float(s.max_stretch.max()) if s.max_stretch.size else 0.0
+        smax = comm.max(float(s.max_stretch.max()) if s.max_stretch.size else 0.0)
         if k < 0 and smax > self.max_stretch:
             k = int(np.argmax(s.max_stretch))
         if k >= 0:
@@ -243,20 +265,19 @@ class ExplicitSolver:
                 time=s.t,
                 point=k,
                 coordinates=coords,
-                last_good=self._last_good,
+                last_good=self.last_good,
             )
-        good = self._last_good
-        if good is None or good.u.shape != s.u.shape or good.intact.shape != s.intact.shape:
-            self._last_good = s.copy()
+        good = self.last_good
+        if good is None or not s.same_layout(good):
+            self.last_good = s.copy()
         else:  # copy into the kept arrays: no allocation in the time loop
-            for name in ("u", "v", "force", "body", "u_prev", "intact", "max_stretch"):
-                getattr(good, name)[...] = getattr(s, name)
-            good.t, good.step, good.bonds_broken = s.t, s.step, s.bonds_broken
+            s.copy_into(good)
 
     def irun(self, s: State, n_steps: int) -> Iterator[State]:
         """Yield the state after each of ``n_steps`` steps."""
         for _ in range(n_steps):
-            yield self.step(s)
+            self.step(s)
+            yield s
 
     def run(self, s: State, n_steps: int) -> State:
         """Advance ``n_steps`` steps, check the final state, and return it."""

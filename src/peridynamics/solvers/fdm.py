@@ -20,12 +20,35 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.bonds import build_bonds
+from peridynamics.bonds.bonds import Bonds
 from peridynamics.damage import NO_DAMAGE
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels.fdm import fdm_force_1d
 from peridynamics.loading.conditions import BodyForce
 from peridynamics.materials.bond_based import BondBasedMaterial
 from peridynamics.model import Model
+from peridynamics.models.pmb import PMBForceModel
+from peridynamics.state import State
+
+
+class FDMForceModel(PMBForceModel):
+    """E u_xx by second-order central differences (the force model of
+    :class:`FDMModel1D`). Energy and stiffness bound are those of the equivalent PMB
+    model with delta = dx on the same nearest-neighbour bonds."""
+
+    name = "fdm"
+    fused_breaking = False
+
+    def __init__(self, cloud: PointCloud, bonds: Bonds, material: BondBasedMaterial) -> None:
+        super().__init__(cloud, bonds, material)
+        self._coef = material.youngs_modulus / cloud.spacing**2
+        self._inv_dx = 1.0 / cloud.spacing
+
+    def force(self, state: State) -> None:
+        """``state.force`` (n, 1) = E u_xx (N/m^3); ``state.max_stretch`` the largest
+        tensile Delta u / dx to a neighbour (Numba kernel
+        :func:`~peridynamics.kernels.fdm.fdm_force_1d`)."""
+        fdm_force_1d(state.u, self._coef, self._inv_dx, state.force, state.max_stretch)
 
 
 class FDMModel1D(Model):
@@ -42,22 +65,7 @@ class FDMModel1D(Model):
             raise ValueError("the finite-difference solver needs sorted nodes at a uniform spacing")
         bonds = build_bonds(cloud, cloud.spacing, "truncated")
         super().__init__(cloud, bonds, material, NO_DAMAGE, body_forces)
-        self._coef = material.youngs_modulus / cloud.spacing**2
-        self._inv_dx = 1.0 / cloud.spacing
-
-    def internal_force(
-        self,
-        u: NDArray,
-        intact: NDArray[np.uint8],
-        force: NDArray,
-        max_stretch: NDArray,
-        v: NDArray | None = None,
-    ) -> int:
-        """Fill ``force`` (n, 1) with E u_xx (N/m^3) and ``max_stretch`` with the largest
-        tensile Delta u / dx to a neighbour (Numba kernel
-        :func:`~peridynamics.kernels.fdm.fdm_force_1d`). Never breaks anything; returns 0."""
-        fdm_force_1d(u, self._coef, self._inv_dx, force, max_stretch)
-        return 0
+        self.force_model = FDMForceModel(cloud, self.bonds, material)
 
     def section_stress(self, u: NDArray, intact: NDArray[np.uint8], position: float) -> float:
         """sigma = E (u_{i+1} - u_i) / dx at the section between the nodes around

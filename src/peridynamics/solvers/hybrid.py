@@ -10,13 +10,14 @@ model start intact.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Protocol
+from typing import Any, Protocol
 
 import numpy as np
 
 from peridynamics.model import Model
+from peridynamics.solvers.base import StepResult
 from peridynamics.solvers.explicit import ExplicitSolver
-from peridynamics.solvers.state import State
+from peridynamics.state import State
 
 
 class SwitchingRule(Protocol):
@@ -76,12 +77,16 @@ class HybridSolver:
         self.switch_time: float | None = None
 
     @property
-    def _last_good(self) -> State | None:
-        return self.second._last_good
+    def last_good(self) -> State | None:
+        return self.second.last_good
 
-    @_last_good.setter
-    def _last_good(self, value: State | None) -> None:
-        self.second._last_good = value
+    @last_good.setter
+    def last_good(self, value: State | None) -> None:
+        self.second.last_good = value
+
+    @property
+    def n_steps(self) -> int | None:
+        return self.second.n_steps
 
     def init(self) -> State:
         """State at t = 0 from the first solver, with the second model's bond flags."""
@@ -89,27 +94,32 @@ class HybridSolver:
         self._first_intact = s.intact
         s.intact = self.second.model.bonds.bond_intact.copy()
         s.phase = 0
-        self.second._last_good = s.copy()
+        self.second.last_good = s.copy()
         self.second._warm_up(self.model.dim)
         return s
 
-    def step(self, s: State) -> State:
+    def resume(self, state: State) -> None:
+        """Continue from a checkpoint (in the phase it was written in)."""
+        self.second.resume(state)
+
+    def step(self, s: State) -> StepResult:
         """One step of the active solver; switch when the rule says so."""
         if s.phase == 1:
             return self.second.step(s)
         own, s.intact = s.intact, self._first_intact
         try:
-            self.first.step(s)
+            result = self.first.step(s)
         finally:
             self._first_intact, s.intact = s.intact, own
         if self.rule.should_switch(s, self.first.model, self.second.model):
             self._switch(s)
-        return s
+            result.events = (*result.events, "switched")
+        return result
 
     def _switch(self, s: State) -> None:
         """Hand over: forces of the second model at the same u (its bonds intact)."""
         m = self.second.model
-        s.bonds_broken += m.internal_force(s.u, s.intact, s.force, s.max_stretch, s.v)
+        m.evaluate(s, commit=True)
         m.external_force(s.t, s.body)
         s.phase = 1
         self.switch_time = s.t
@@ -117,6 +127,21 @@ class HybridSolver:
     def check(self, s: State) -> None:
         """Stability check of the active solver."""
         (self.second if s.phase == 1 else self.first).check(s)
+
+    def done(self, s: State) -> bool:
+        return self.second.done(s)
+
+    def total_steps(self) -> int:
+        return self.second.total_steps()
+
+    def summary_fields(self, s: State) -> dict[str, Any]:
+        """Time step, stable limit, and when the hybrid switched."""
+        return {
+            "time_step_s": self.dt,
+            "stable_time_step_s": self.stable_time_step,
+            "switch_time_s": self.switch_time,
+            "switched": s.phase == 1,
+        }
 
     def steps_for(self, end_time: float) -> int:
         """Number of steps to reach ``end_time``."""

@@ -1,0 +1,500 @@
+"""Observers: every output of a run is a small class with ``on_step`` and ``finalize``.
+
+The runner builds the list from the deck (:func:`observers_for`) and calls, in list
+order, ``on_start`` once, ``on_step`` after every solver step and ``finalize`` when the
+run ends (completed, stopped or unstable). Histories live in one ``records`` mapping
+shared by the observers, so a checkpoint saves and restores all of them at once.
+Adding an output adds a class here, not a branch in the runner.
+"""
+
+from __future__ import annotations
+
+import os
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from peridynamics.analysis.crack import branching, crack_tip, tip_speed
+from peridynamics.analysis.waves import dominant_period, pulse_comparison
+from peridynamics.io import deck as dk
+from peridynamics.io.checkpoint import write_checkpoint
+from peridynamics.io.plots import plot_damage, plot_histories
+from peridynamics.io.vtk import write_pvd, write_vtu
+from peridynamics.solvers.base import StepResult
+from peridynamics.state import State
+
+if TYPE_CHECKING:
+    from peridynamics.model import Model
+
+COMP = {"x": 0, "y": 1, "z": 2}
+
+
+@dataclass
+class RunContext:
+    """What observers share: the deck, the model, the solver, the output folder, the
+    records (histories, checkpointed) and the stop flag an observer may raise."""
+
+    deck: dk.Deck
+    model: Model
+    solver: Any
+    out: Path
+    records: dict[str, Any]
+    fingerprint: str = ""
+    stop: bool = False
+    status: str = "completed"
+    damage_cache: dict[int, NDArray] = field(default_factory=dict)
+
+    def damage(self, s: State) -> NDArray:
+        """Point damage of ``s`` (computed once per step for all observers)."""
+        got = self.damage_cache.get(s.step)
+        if got is None:
+            self.damage_cache.clear()
+            got = self.model.point_damage(s.intact)
+            self.damage_cache[s.step] = got
+        return got
+
+
+class Observer:
+    """Base class: every hook is optional."""
+
+    def on_start(self, ctx: RunContext, s: State, resumed: bool) -> None:
+        """Once before the first step (``resumed``: continuing from a checkpoint)."""
+
+    def on_step(self, ctx: RunContext, s: State, result: StepResult) -> None:
+        """After every solver step."""
+
+    def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
+        """At the end: add entries to ``results``; return the files written."""
+        return []
+
+
+def new_records(deck: dk.Deck) -> dict[str, Any]:
+    """Empty histories of a run."""
+    return {
+        "time_s": [],
+        "kinetic_energy_J": [],
+        "strain_energy_J": [],
+        "max_damage": [],
+        "probes": {p.name: [] for p in deck.output.probes},
+        "crack_tip_m": [],
+        "vtk_frames": [],
+        "stress_Pa": [],
+        "strain": [],
+    }
+
+
+def _reduce(vals: NDArray, how: str) -> float:
+    if how == "mean":
+        return float(np.mean(vals))
+    if how == "sum":
+        return float(np.sum(vals))
+    return float(np.max(vals) if how == "max" else np.min(vals))
+
+
+# ----------------------------------------------------------------------- histories
+class History(Observer):
+    """Time, energies, largest damage, probes, stress-strain and crack tip every
+    ``output.history_every`` steps (and at the last step or a stop)."""
+
+    def __init__(self, deck: dk.Deck, model: Model) -> None:
+        self.deck, self.model = deck, model
+        self._pre_damaged: NDArray[np.bool_] | None = None
+        ct = deck.output.crack_tip
+        self._tip = (
+            None
+            if ct is None
+            else (
+                np.asarray(ct.origin, dtype=float),
+                None if ct.direction is None else np.asarray(ct.direction, dtype=float),
+                ct.damage_threshold,
+            )
+        )
+
+    def on_start(self, ctx: RunContext, s: State, resumed: bool) -> None:
+        if not resumed:
+            self.record(ctx, s)
+
+    def on_step(self, ctx: RunContext, s: State, result: StepResult) -> None:
+        if ctx.stop or s.step % self.deck.output.history_every == 0 or ctx.solver.done(s):
+            self.record(ctx, s)
+
+    def probe_value(self, probe: dk.Probe, s: State, damage: NDArray) -> float:
+        """One number for a probe at the current state."""
+        m = self.model
+        q = probe.quantity
+        if q == "section_stress":
+            assert probe.position is not None
+            return m.section_stress(s.u, s.intact, probe.position)
+        nodes = m.cloud.node_set(probe.set)
+        if q in ("damage", "max_stretch"):
+            vals = damage[nodes] if q == "damage" else s.max_stretch[nodes]
+            return float(_reduce(vals, probe.reduce or "max"))
+        if q == "reaction_force":
+            f = -s.force[nodes] * m.cloud.volume[nodes, None]
+            vec = m.comm.sum_array(f.sum(axis=0))
+            return float(
+                np.linalg.norm(vec)
+                if probe.component == "magnitude"
+                else vec[COMP[probe.component]]
+            )
+        arr = {"displacement": s.u, "velocity": s.v, "force_density": s.force}[q][nodes]
+        vals = (
+            np.linalg.norm(arr, axis=1)
+            if probe.component == "magnitude"
+            else arr[:, COMP[probe.component]]
+        )
+        return float(_reduce(vals, probe.reduce or "mean"))
+
+    def record(self, ctx: RunContext, s: State) -> None:
+        """Append one record."""
+        m, r = self.model, ctx.records
+        damage = ctx.damage(s)
+        r["time_s"].append(s.t)
+        r["kinetic_energy_J"].append(m.kinetic_energy(s.v))
+        r["strain_energy_J"].append(m.strain_energy(s.u, s.intact))
+        r["max_damage"].append(m.comm.max(float(damage.max())))
+        for p in self.deck.output.probes:
+            r["probes"][p.name].append(self.probe_value(p, s, damage))
+        ss = self.deck.output.stress_strain
+        if ss is not None:
+            nodes = m.cloud.node_set(ss.set)
+            d = np.asarray(ss.direction, dtype=float)
+            d /= np.linalg.norm(d)
+            push = (s.force[nodes] * m.cloud.volume[nodes, None]).sum(axis=0)
+            r.setdefault("stress_Pa", []).append(float(-np.sum(push * d) / ss.area))
+            r.setdefault("strain", []).append(
+                float(np.sum(s.u[nodes].mean(axis=0) * d) / ss.length)
+            )
+        if self._tip is not None:
+            origin, direction, thr = self._tip
+            if self._pre_damaged is None:  # points a pre-crack damages at t = 0
+                self._pre_damaged = m.point_damage(m.bonds.bond_intact) >= thr
+            r["crack_tip_m"].append(
+                crack_tip(m.cloud.x, damage, origin, direction, thr, self._pre_damaged)
+            )
+
+    def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
+        r = ctx.records
+        results["history"] = {
+            k: r[k] for k in ("time_s", "kinetic_energy_J", "strain_energy_J", "max_damage")
+        }
+        results["probes"] = {}
+        t = np.asarray(r["time_s"])
+        for name, values in r["probes"].items():
+            v = np.asarray(values)
+            k = int(np.argmax(np.abs(v))) if len(v) else 0
+            peak = float(v[k]) if len(v) else 0.0
+            arrived = np.flatnonzero(np.abs(v) >= 0.1 * abs(peak)) if peak else np.array([])
+            results["probes"][name] = {
+                "time_s": r["time_s"],
+                "values": values,
+                "peak": peak,
+                "peak_time_s": float(t[k]) if len(v) else None,
+                "arrival_time_s": float(t[arrived[0]]) if arrived.size else None,
+            }
+        ke = np.asarray(r["kinetic_energy_J"])
+        se = np.asarray(r["strain_energy_J"])
+        # quasi-static check: KE / SE once the body is loaded (SE >= 10 % of its maximum)
+        loaded = se >= 0.1 * se.max() if se.size and se.max() > 0 else np.zeros(0, bool)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = ke[loaded] / se[loaded]
+        results["max_kinetic_to_strain_energy"] = float(ratio.max()) if ratio.size else 0.0
+        if self.deck.output.stress_strain is not None and r.get("stress_Pa"):
+            stress = np.asarray(r["stress_Pa"])
+            k = int(np.argmax(stress))
+            results["peak_stress_Pa"] = float(stress[k])
+            results["strain_at_peak"] = float(r["strain"][k])
+            results["stress_strain"] = {"strain": r["strain"], "stress_Pa": r["stress_Pa"]}
+        return []
+
+
+# ------------------------------------------------------------------------ fracture
+class Fracture(Observer):
+    """Records when the largest damage first reaches ``output.fracture.damage_threshold``
+    (and where); asks the run to stop there when ``stop`` is set."""
+
+    def __init__(self, spec: dk.Fracture, model: Model) -> None:
+        self.spec, self.model = spec, model
+
+    def on_step(self, ctx: RunContext, s: State, result: StepResult) -> None:
+        r = ctx.records
+        if "fracture_time_s" in r or result.broken == 0:
+            return
+        damage = ctx.damage(s)
+        hit = damage >= self.spec.damage_threshold
+        if not np.any(hit):
+            return
+        x = self.model.cloud.x[hit]
+        r["fracture_time_s"] = s.t
+        r["fracture_step"] = s.step
+        if self.model.dim == 1:
+            r["fracture_position_m"] = [float(x[:, 0].min()), float(x[:, 0].max())]
+        else:
+            r["fracture_position_m"] = [x.min(axis=0).tolist(), x.max(axis=0).tolist()]
+        r["fracture_damage"] = damage.tolist() if self.model.dim == 1 else None
+        if self.spec.stop:
+            ctx.stop = True
+
+    def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
+        r = ctx.records
+        results["fracture_time_s"] = r.get("fracture_time_s")
+        results["fracture_position_m"] = r.get("fracture_position_m")
+        results["fracture_step"] = r.get("fracture_step")
+        if r.get("fracture_damage") is not None:
+            results["damage_at_fracture"] = r["fracture_damage"]
+        return []
+
+
+class CrackBranching(Observer):
+    """Crack-tip position and speed histories; in 2-D the branching analysis of the
+    final damage field (the tip itself is recorded by :class:`History`)."""
+
+    def __init__(self, spec: dk.CrackTip, model: Model) -> None:
+        self.spec, self.model = spec, model
+
+    def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
+        ct, cloud = self.spec, self.model.cloud
+        pos = np.asarray(ctx.records["crack_tip_m"])
+        speed = tip_speed(np.asarray(ctx.records["time_s"]), pos)
+        results["crack_tip_position_m"] = pos.tolist()
+        results["crack_tip_speed_m_per_s"] = speed.tolist()
+        results["max_crack_tip_speed_m_per_s"] = float(speed.max()) if len(speed) else 0.0
+        if cloud.dim == 2:
+            origin = np.asarray(ct.origin, dtype=float)
+            direction = np.asarray(ct.direction or [1.0, 0.0], dtype=float)
+            direction = direction / np.linalg.norm(direction)
+            n_br, dist = branching(
+                cloud.x, ctx.damage(s), cloud.spacing, ct.damage_threshold, origin, direction
+            )
+            point = None if dist is None else (origin + dist * direction).tolist()
+            results["crack_branches"] = n_br
+            results["crack_branched"] = n_br >= 2
+            results["branching_distance_m"] = dist
+            results["branching_point_m"] = point
+            results["branching_x_m"] = None if point is None else point[0]
+        return []
+
+
+class HybridSwitch(Observer):
+    """Time at which a hybrid solver handed over to the peridynamic model."""
+
+    def on_step(self, ctx: RunContext, s: State, result: StepResult) -> None:
+        if "switched" in result.events and "switch_time_s" not in ctx.records:
+            ctx.records["switch_time_s"] = s.t
+
+    def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
+        results["switch_time_s"] = ctx.records.get("switch_time_s")
+        results["switched"] = s.phase == 1
+        return []
+
+
+# ---------------------------------------------------------------------- files
+class VTKFrames(Observer):
+    """A VTU frame every ``output.vtk_every`` steps, at the start and at the end, and the
+    PVD series that ParaView opens."""
+
+    def __init__(self, deck: dk.Deck, model: Model) -> None:
+        self.deck, self.model = deck, model
+
+    def on_start(self, ctx: RunContext, s: State, resumed: bool) -> None:
+        if not resumed:
+            self.frame(ctx, s)
+
+    def on_step(self, ctx: RunContext, s: State, result: StepResult) -> None:
+        every = self.deck.output.vtk_every
+        if every and s.step % every == 0:
+            self.frame(ctx, s)
+
+    def frame(self, ctx: RunContext, s: State, name: str | None = None) -> None:
+        """Write one frame (``name``: a one-off file outside the series)."""
+        fields = self.deck.output.fields
+        data: dict[str, NDArray] = {}
+        if "displacement" in fields:
+            data["displacement"] = s.u
+        if "velocity" in fields:
+            data["velocity"] = s.v
+        if "damage" in fields:
+            data["damage"] = ctx.damage(s)
+        if "force_density" in fields:
+            data["force_density"] = s.force
+        fname = name or f"frame_{s.step:07d}.vtu"
+        write_vtu(ctx.out / fname, self.model.cloud.x, data)
+        if name is None:
+            frames = [f for f in ctx.records["vtk_frames"] if f[1] != fname]
+            frames.append((s.t, fname))
+            ctx.records["vtk_frames"] = frames
+            write_pvd(ctx.out / f"{self.deck.name}.pvd", [tuple(f) for f in frames])
+
+    def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
+        every = self.deck.output.vtk_every
+        if ctx.status == "unstable":
+            return []
+        if not every or s.step % every:
+            self.frame(ctx, s)
+        return []
+
+
+class Checkpoints(Observer):
+    """An atomic checkpoint every ``every`` steps (State fields, records, fingerprint)."""
+
+    def __init__(self, every: int) -> None:
+        self.every = every
+
+    def on_step(self, ctx: RunContext, s: State, result: StepResult) -> None:
+        if s.step % self.every == 0:
+            write_checkpoint(ctx.out, s, ctx.records, ctx.fingerprint)
+
+
+class CrashAtStep(Observer):
+    """Test hook: kill the process (exit 137, no clean-up) after a given step, a
+    deterministic stand-in for a power cut. Installed only when the environment
+    variable PERIDYNAMICS_CRASH_AT_STEP is set."""
+
+    def __init__(self, step: int) -> None:
+        self.step = step
+
+    def on_step(self, ctx: RunContext, s: State, result: StepResult) -> None:
+        if s.step == self.step:
+            os._exit(137)
+
+
+# --------------------------------------------------------------- end-of-run results
+class WaveOutputs(Observer):
+    """``results.period_s`` and the d'Alembert comparison (+ ``wave_profile.csv``)."""
+
+    def __init__(self, deck: dk.Deck, model: Model) -> None:
+        self.deck, self.model = deck, model
+
+    def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
+        o = self.deck.output
+        files: list[str] = []
+        if o.period is not None:
+            pr = results["probes"][o.period.probe]
+            try:
+                values = np.asarray(pr["values"])
+                if o.period.of == "magnitude":
+                    values = np.abs(values)
+                elif o.period.of == "rate":
+                    values = np.abs(np.gradient(values, np.asarray(pr["time_s"])))
+                results["period_s"] = dominant_period(pr["time_s"], values, o.period.min_period)
+            except ValueError as exc:
+                results["period_s"] = None
+                results["period_error"] = str(exc)
+        wc = o.wave_comparison
+        if wc is not None:
+            mat = self.deck.material
+            speed = float(np.sqrt(mat.youngs_modulus / mat.density))
+            x = self.model.cloud.x[:, 0]
+            exact, errors = pulse_comparison(
+                x, s.u[:, 0], s.t, wc.shape, wc.amplitude, wc.duration, speed,
+                wc.source_position, wc.tail_margin,
+            )  # fmt: skip
+            results.update(errors)
+            results["wave_front_m"] = wc.source_position + speed * s.t
+            path = ctx.out / "wave_profile.csv"
+            np.savetxt(
+                path,
+                np.column_stack([x, s.u[:, 0], exact]),
+                delimiter=",",
+                header="x_m,u_m,u_exact_m",
+                comments="",
+            )
+            files.append(path.name)
+        return files
+
+
+class BlastRecord(Observer):
+    """The blast pressure parameters the run used (Kingery-Bulmash)."""
+
+    def __init__(self, blasts: list[dk.BlastTF]) -> None:
+        self.blasts = blasts
+
+    def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
+        from peridynamics.loading.blast import BlastPulse
+
+        with warnings.catch_warnings():  # already warned when the run was set up
+            warnings.simplefilter("ignore")
+            results["blast"] = [
+                {
+                    **BlastPulse(b.charge_kg, b.standoff_m, b.shape).parameters.as_dict(),
+                    "shape": b.shape,
+                    "delay_s": b.delay,
+                }
+                for b in self.blasts
+            ]
+        return []
+
+
+class Figure(Observer):
+    """The PNG of the run: damage map (2-D/3-D) or probe histories (1-D)."""
+
+    def __init__(self, deck: dk.Deck, model: Model) -> None:
+        self.deck, self.model = deck, model
+
+    def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
+        kind = self.deck.output.plot
+        cloud, name, r = self.model.cloud, self.deck.name, ctx.records
+        if kind == "none":
+            return []
+        if kind == "auto":
+            kind = "probes" if cloud.dim == 1 else "damage"
+        path = ctx.out / f"{name}_{kind}.png"
+        damage = ctx.damage(s)
+        title = f"{name}: damage at t = {s.t * 1e6:.2f} us"
+        if kind == "damage" and cloud.dim == 1:
+            plot_histories(
+                path, cloud.x[:, 0].tolist(), {"damage": damage.tolist()}, title,
+                xlabel="x (m)", xscale=1.0,
+            )  # fmt: skip
+        elif kind == "damage":
+            plot_damage(path, cloud.x, damage, cloud.spacing, title)
+        else:
+            units = {
+                "displacement": "m",
+                "velocity": "m/s",
+                "force_density": "N/m^3",
+                "reaction_force": "N",
+                "section_stress": "Pa",
+                "max_stretch": "-",
+                "damage": "-",
+            }
+            series = {
+                f"{p.name} ({units[p.quantity]})": r["probes"][p.name]
+                for p in self.deck.output.probes
+            }
+            series = series or {"kinetic energy (J)": r["kinetic_energy_J"]}
+            plot_histories(path, r["time_s"], series, f"{name}: probes")
+        return [path.name]
+
+
+def observers_for(deck: dk.Deck, model: Model, hybrid: bool, checkpoint_every: int) -> list:
+    """The observers a deck asks for, in the order they run."""
+    o = deck.output
+    obs: list[Observer] = []
+    if hybrid:
+        obs.append(HybridSwitch())
+    if o.fracture is not None:
+        obs.append(Fracture(o.fracture, model))
+    obs.append(History(deck, model))
+    obs.append(VTKFrames(deck, model))
+    if checkpoint_every:
+        obs.append(Checkpoints(checkpoint_every))
+    crash = int(os.environ.get("PERIDYNAMICS_CRASH_AT_STEP", "-1"))
+    if crash >= 0:
+        obs.append(CrashAtStep(crash))
+    blasts = [
+        spec.time_function
+        for spec in deck.boundary_conditions
+        if isinstance(getattr(spec, "time_function", None), dk.BlastTF)
+    ]
+    if blasts:
+        obs.append(BlastRecord(blasts))
+    if o.crack_tip is not None:
+        obs.append(CrackBranching(o.crack_tip, model))
+    obs.append(Figure(deck, model))
+    obs.append(WaveOutputs(deck, model))
+    return obs

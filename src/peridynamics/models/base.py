@@ -1,0 +1,147 @@
+"""The force-model and damage-law seams.
+
+A **force model** is one model family (bond-based PMB, ordinary state-based LPS, ...).
+It declares the fields it needs, computes its reference quantities once, optionally
+runs a per-point pre-pass (LPS: the dilatation) whose results the force pass reads at
+both ends of each bond, and evaluates forces *purely*: it never breaks a bond. It also
+gives its strain energy, a per-point stiffness bound (stable time step, fictitious
+density of dynamic relaxation) and, where it has one, a sparse tangent; every model
+has the finite-difference tangent of :mod:`peridynamics.models.tangent` as fallback
+and test oracle.
+
+A **damage law** proposes (``trial``) which bonds fail at a state; the solver decides
+when to ``commit`` the proposal (explicit dynamics: every step; dynamic relaxation and
+static solvers: on an accepted load step). The history it changes (``intact``) lives
+in the :class:`~peridynamics.solvers.state.State`.
+
+Units: force densities N/m^3, energy densities J/m^3, stiffness bounds N/m^5 (so that
+``dt_i = sqrt(2 rho_i / K_i)`` is a time for a density in kg/m^3), tangents N/m.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, ClassVar
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+
+from peridynamics.bonds.bonds import Bonds
+from peridynamics.geometry.cloud import PointCloud
+
+if TYPE_CHECKING:
+    from peridynamics.state import State
+
+
+@dataclass(frozen=True)
+class Dof:
+    """A group of degrees of freedom per point that a solver integrates.
+
+    ``value`` is the displacement-like field (``u``), ``rate`` its velocity (``v``),
+    ``force`` the conjugate internal force density, ``body`` the external one, all of
+    shape (n, components). Translational models have one group; a micropolar model adds
+    rotations (``theta``, ``omega``, ``moment``, ``body_moment``).
+    """
+
+    value: str
+    rate: str
+    force: str
+    body: str
+    components: int
+
+
+@dataclass(frozen=True)
+class FieldSpec:
+    """A field a model family adds to the State: per point (``(n, components)`` or
+    ``(n,)`` for ``components == 0``) or per bond; ``history`` fields are decided by a
+    damage law and committed by the solver."""
+
+    name: str
+    where: str = "point"  # "point" or "bond"
+    components: int = 0
+    dtype: str = "float64"
+    history: bool = False
+
+
+class ForceModel(ABC):
+    """One model family evaluated over a directed CSR bond list.
+
+    Subclasses set ``name`` (the deck's ``material.model``), compute reference
+    quantities in ``__init__`` and implement :meth:`force`, :meth:`energy_density` and
+    :meth:`stiffness_bound`. The kernels loop over the points that own a family,
+    ``len(bonds.offsets) - 1``.
+    """
+
+    name: ClassVar[str] = ""
+    cloud: PointCloud
+    bonds: Bonds
+
+    @property
+    def dim(self) -> int:
+        return self.cloud.dim
+
+    @property
+    def n_points(self) -> int:
+        return self.cloud.n_points
+
+    def dofs(self) -> tuple[Dof, ...]:
+        """Degrees of freedom per point (default: the displacement, ``dim`` components)."""
+        return (Dof("u", "v", "force", "body", self.dim),)
+
+    def state_fields(self) -> tuple[FieldSpec, ...]:
+        """Extra fields (pre-pass results, history) the State must hold."""
+        return ()
+
+    def prepass(self, state: State) -> None:  # noqa: B027 - optional hook
+        """Per-point reductions the force pass reads at both ends of a bond (default:
+        none). Results go into the State's fields declared by :meth:`state_fields`."""
+
+    @abstractmethod
+    def force(self, state: State) -> None:
+        """Fill ``state.force`` (n, dim) with the internal force density (N/m^3) and
+        ``state.max_stretch`` (n,) with the largest tensile stretch of an intact bond of
+        each point, from ``state.u`` and ``state.intact``. Pure: never breaks a bond."""
+
+    @abstractmethod
+    def energy_density(self, state: State) -> NDArray[np.float64]:
+        """Strain energy density W_i (J/m^3), shape (n,), such that the force is
+        V_i f_i = -d(sum_j W_j V_j)/du_i."""
+
+    @abstractmethod
+    def stiffness_bound(self) -> NDArray[np.float64]:
+        """Per-point stiffness bound K_i (N/m^5) of the undamaged model: the stable
+        explicit step is ``min_i sqrt(2 rho_i / K_i)`` (Silling & Askari 2005) and the
+        fictitious density of dynamic relaxation is built from it (Kilic & Madenci
+        2010)."""
+
+    def tangent(self, state: State) -> sp.csr_matrix | None:
+        """Analytic tangent K = -d(V f)/du, shape (n dim, n dim) (N/m), or ``None`` when
+        the model has none (the finite-difference tangent is used instead)."""
+        return None
+
+    def on_restore(self, state: State) -> None:  # noqa: B027 - optional hook
+        """Rebuild derived quantities after a State was read from a checkpoint."""
+
+
+class DamageLaw(ABC):
+    """Decides which bonds fail. ``trial`` proposes, ``commit`` applies."""
+
+    name: ClassVar[str] = ""
+
+    @property
+    def active(self) -> bool:
+        """False for a law that never breaks anything."""
+        return True
+
+    @abstractmethod
+    def trial(self, state: State) -> int:
+        """Propose the bonds that fail at ``state`` (kept by the law until
+        :meth:`commit`); returns the number of directed bonds proposed. Does not change
+        the State."""
+
+    @abstractmethod
+    def commit(self, state: State) -> int:
+        """Apply the last proposal to ``state.intact`` (and ``state.bonds_broken``);
+        returns the number of directed bonds broken."""

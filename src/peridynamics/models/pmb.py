@@ -1,0 +1,147 @@
+"""Bond-based PMB / linear microelastic force model (Silling 2000; Silling & Askari 2005).
+
+The force pass is :mod:`peridynamics.kernels.bond_based` with an infinite breaking
+threshold, so the pure evaluation and the explicit fast path (breaking and forces in
+one pass, :meth:`PMBForceModel.force_and_break`) are the same compiled code.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+import scipy.sparse as sp
+from numpy.typing import NDArray
+
+from peridynamics.bonds.bonds import Bonds
+from peridynamics.bonds.surface import energy_correction_factors
+from peridynamics.geometry.cloud import PointCloud
+from peridynamics.kernels import bond_based
+from peridynamics.models.base import ForceModel
+
+if TYPE_CHECKING:
+    from peridynamics.materials.bond_based import BondBasedMaterial
+    from peridynamics.state import State
+
+#: uniaxial strain of the surface-correction calibration: small, so that the geometric
+#: nonlinearity of the stretch (relative O(strain)) does not bias the factors
+_CALIBRATION_STRAIN = 1e-6
+
+
+class PMBForceModel(ForceModel):
+    """Prototype microelastic brittle bonds: f_ij = c s mu (xi + eta)/|xi + eta|.
+
+    Parameters
+    ----------
+    cloud : PointCloud
+    bonds : Bonds
+    material : BondBasedMaterial
+    surface_correction : bool
+        Energy-method surface correction (Madenci & Oterkus 2014, section 4.2).
+
+    Attributes
+    ----------
+    stiffness : (n_bonds,) c(|xi|) beta V_j lambda (N/m^6 m^3): what the kernel reads;
+        SED softening rescales it in place.
+    inv_length : (n_bonds,) 1/|xi| (1/m).
+    """
+
+    name = "pmb"
+    #: the explicit fast path (:meth:`force_and_break`) gives the same bits as trial,
+    #: commit and :meth:`force` in turn
+    fused_breaking: bool = True
+
+    def __init__(
+        self,
+        cloud: PointCloud,
+        bonds: Bonds,
+        material: BondBasedMaterial,
+        surface_correction: bool = False,
+    ) -> None:
+        self.cloud = cloud
+        self.material = material
+        if surface_correction:
+            raw = material.bond_stiffness(cloud, bonds, corrected=False)
+            w_inf = material.uniaxial_energy_density(
+                _CALIBRATION_STRAIN, cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
+            )
+            factors = energy_correction_factors(cloud.x, bonds, raw, w_inf, _CALIBRATION_STRAIN)
+            bonds = bonds.with_correction(factors)
+        self.bonds = bonds
+        self.stiffness = material.bond_stiffness(cloud, bonds)
+        self.inv_length = 1.0 / bonds.bond_length
+        self._kernel = bond_based.FORCE_KERNELS[cloud.dim]
+        n = len(bonds.offsets) - 1
+        self._never = np.full(n, np.inf)  # no threshold is ever reached: the pure pass
+        self._broken_scratch = np.zeros(n, dtype=np.int64)
+
+    # -- forces -------------------------------------------------------------------------
+    def force(self, state: State) -> None:
+        """Bond force density (N/m^3) into ``state.force``; never breaks a bond."""
+        b = self.bonds
+        self._kernel(
+            self.cloud.x, state.u, b.offsets, b.bond_j, self.inv_length, self.stiffness,
+            state.intact, self._never, self._never, state.force, state.max_stretch,
+            self._broken_scratch,
+        )  # fmt: skip
+
+    def force_and_break(
+        self, state: State, point_s0: NDArray[np.float64], family_s0_min: NDArray[np.float64]
+    ) -> int:
+        """Explicit fast path: the critical-stretch trial, its commit and :meth:`force` in
+        one pass over the bonds (the same bits as the three calls in turn). Bonds whose
+        stretch reaches (s0_i + s0_j)/2 break for good; returns the number broken."""
+        b = self.bonds
+        return int(
+            self._kernel(
+                self.cloud.x, state.u, b.offsets, b.bond_j, self.inv_length, self.stiffness,
+                state.intact, point_s0, family_s0_min, state.force, state.max_stretch,
+                self._broken_scratch,
+            )
+        )  # fmt: skip
+
+    def force_sed_and_break(
+        self,
+        state: State,
+        point_s0: NDArray[np.float64],
+        family_s0_min: NDArray[np.float64],
+        k0l: NDArray[np.float64],
+        tensile: bool,
+        energy: NDArray[np.float64],
+    ) -> int:
+        """2-D: :meth:`force_and_break` plus the SED energy with the initial stiffness
+        ``k0l`` = stiffness0 |xi| / 4 in the same pass (``energy`` (n,) J/m^3)."""
+        b = self.bonds
+        return int(
+            bond_based.force_sed_2d(
+                self.cloud.x, state.u, b.offsets, b.bond_j, self.inv_length, self.stiffness,
+                state.intact, point_s0, family_s0_min, state.force, state.max_stretch,
+                self._broken_scratch, k0l, tensile, energy,
+            )
+        )  # fmt: skip
+
+    # -- energy, bounds, tangent --------------------------------------------------------
+    def energy_density(self, state: State) -> NDArray[np.float64]:
+        """W_i = 1/4 sum_k stiffness_k mu_k s_k^2 |xi_k| (J/m^3), shape (n,)."""
+        b = self.bonds
+        out = np.empty(len(b.offsets) - 1)
+        bond_based.strain_energy_density(
+            self.cloud.x, state.u, b.offsets, b.bond_j, b.bond_length, self.stiffness,
+            state.intact, out,
+        )  # fmt: skip
+        return out
+
+    def stiffness_bound(self) -> NDArray[np.float64]:
+        """K_i = sum_k stiffness_k / |xi_k| (N/m^5): Silling & Askari (2005), eq. 18
+        gives dt_i = sqrt(2 rho / K_i)."""
+        b = self.bonds
+        out = np.empty(len(b.offsets) - 1)
+        bond_based.stiffness_bound_per_point(b.offsets, b.bond_length, self.stiffness, out)
+        return out
+
+    def tangent(self, state: State) -> sp.csr_matrix:
+        """Analytic tangent K = -d(V f)/du (N/m), shape (n dim, n dim)
+        (:func:`peridynamics.models.pmb_tangent.pmb_tangent`)."""
+        from peridynamics.models.pmb_tangent import pmb_tangent
+
+        return pmb_tangent(self, state)

@@ -1,0 +1,5 @@
+"""Distribution seams: the communicator every global reduction goes through."""
+
+from peridynamics.parallel.communicator import SERIAL, Communicator, SerialCommunicator
+
+__all__ = ["SERIAL", "Communicator", "SerialCommunicator"]
