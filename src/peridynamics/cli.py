@@ -270,7 +270,8 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
 
 def cmd_dispersion(args: argparse.Namespace) -> int:
-    """Dispersion curve of the semi-discrete relation (seed 003), or grid advice."""
+    """Dispersion curve of the semi-discrete relation (PD wave dispersion (n.d.)), or grid
+    advice."""
     from peridynamics.analysis import dispersion as dsp
 
     if args.frequency is not None or args.pulse_duration is not None:
@@ -306,7 +307,7 @@ def cmd_dispersion(args: argparse.Namespace) -> int:
                 "omega / omega0": curve.omega_over_omega0.tolist(),
                 "group velocity / v0": curve.group_velocity_over_v0.tolist(),
             },
-            f"semi-discrete dispersion (seed 003), {label}",
+            f"semi-discrete dispersion (PD wave dispersion (n.d.)), {label}",
             xlabel="N_h = kappa h / (2 pi)",
             xscale=1.0,
         )
@@ -418,7 +419,9 @@ def build_parser() -> argparse.ArgumentParser:
     e.add_argument("--force", action="store_true", help="replace an existing copy")
     e.set_defaults(func=cmd_examples)
 
-    d = sub.add_parser("dispersion", help="dispersion curves (seed 003) and grid advice")
+    d = sub.add_parser(
+        "dispersion", help="dispersion curves (PD wave dispersion (n.d.)) and grid advice"
+    )
     d.add_argument("--dim", type=int, choices=[1, 2], default=1)
     d.add_argument("--m", type=float, default=3.015, help="delta / h (default 3.015)")
     d.add_argument("--theta", type=float, default=0.0, help="direction in degrees (2-D)")

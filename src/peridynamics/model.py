@@ -65,7 +65,7 @@ class Model:
         Apply the force model's surface correction (PMB: the energy method of Madenci &
         Oterkus 2014).
     viscosity : BondViscosity, optional
-        Viscous bond forces (Zhou et al. 2021? see docs/references.md) from the velocity
+        Viscous bond forces (PD wave dispersion (n.d.), eqs 52-56) from the velocity
         of the State; ``None`` or both coefficients 0 is plain PD.
     softening : SEDSoftening, optional
         Strain-energy-density softening of the bond stiffness (PMB only).
@@ -337,14 +337,14 @@ class Model:
         return self.comm.sum(local)
 
     def point_damage(self, intact: NDArray[np.uint8]) -> NDArray:
-        """Local damage phi (seed 000 eq. 7), shape (n,)."""
+        """Local damage phi (Lu & Wang (2016), eq. 7), shape (n,)."""
         out = np.empty(self.n_points)
         bond_based.damage(self.bonds.offsets, self.bonds.bond_volume, intact, out)
         return out
 
     def section_stress(self, u: NDArray, intact: NDArray[np.uint8], position: float) -> float:
         """1-D stress (Pa, tension positive) across the section x = ``position``: the sum
-        of the forces of all intact bonds that cross it, divided by the area (seed 000
+        of the forces of all intact bonds that cross it, divided by the area (Lu & Wang (2016)
         section 3: PD stress from the force flux, comparable with the FDM stress)."""
         if self.dim != 1:
             raise ValueError("section_stress is defined for 1-D bars")
@@ -401,7 +401,7 @@ class Model:
         With linear viscosity the bound shrinks as for a damped oscillator integrated
         explicitly: dt = dt_el (sqrt(1 + xi^2) - xi), where xi = gamma / dt_el is the
         damping ratio of the fastest mode (omega = 2 / dt_el) and gamma (s) the largest
-        ratio of viscous to elastic bond coefficient (the 1-D rate constant of seed 003
+        ratio of viscous to elastic bond coefficient (the 1-D rate constant of PD wave dispersion (n.d.)
         eq. 39). The quadratic term depends on the amplitude and is not included.
         """
         bound = self.stiffness_bound()

@@ -1,8 +1,9 @@
-"""Strain-energy-density (SED) softening of bond-based PD (seed 001 eqs 14-24).
+"""Strain-energy-density (SED) softening of bond-based PD (SED-PD (2021), eqs 14-24).
 
 Each point i carries its strain energy density W_i = 1/4 sum_j mu c s^2 |xi| V_j
 (eq. 22), evaluated with the *initial* micromodulus so that softening does not lower
-its own driving energy (SPEC.md 2.2). Its effective modulus steps down irreversibly:
+its own driving energy (our reconstruction, docs/theory_rock.md). Its effective
+modulus steps down irreversibly:
 
 * W_i <  W_A,i                 E_i = E                              (elastic)
 * W_A,i <= W_i < W_C,i         E_i = E (N + 1 - n) / N, n = 1..N     (eqs 18-20)
@@ -12,14 +13,15 @@ its own driving energy (SPEC.md 2.2). Its effective modulus steps down irreversi
 The point micromodulus is c_i = c E_i / E and a bond uses (c_i + c_j) / 2 (eq. 24).
 Bonds still break independently at their critical stretch.
 
-Choices the paper leaves open (SPEC.md 2.2, all options here):
+Choices the paper leaves open (our reconstruction, docs/theory_rock.md; all options
+here):
 
-* the thresholds are not printed. Default (RECON-L): W_A,i = 1/2 E s0_i^2, the energy
-  density of the linear element at the onset of damage, with s0_i the point's (Weibull)
-  critical stretch; ``threshold_stretch`` replaces s0_i by a fixed stretch;
-  W_C,i = k_C W_A,i with ``k_c`` = 4 by default;
-* N = ``levels`` = 10 by default; the seed prints (N + 1 - n)/N without the factor E,
-  which dimensionally must multiply E (SEED-fixed);
+* the thresholds are not printed. Default (our reconstruction): W_A,i = 1/2 E s0_i^2,
+  the energy density of the linear element at the onset of damage, with s0_i the
+  point's (Weibull) critical stretch; ``threshold_stretch`` replaces s0_i by a fixed
+  stretch; W_C,i = k_C W_A,i with ``k_c`` = 4 by default;
+* N = ``levels`` = 10 by default; the paper prints (N + 1 - n)/N without the factor E,
+  which dimensionally must multiply E (a correction of the printed formula);
 * ``residual`` = 0.05;
 * ``energy``: "total" sums every bond as eq. 22 prints; "tensile" counts only stretched
   bonds (s > 0), so that compression alone does not soften (see docs/theory_rock.md for

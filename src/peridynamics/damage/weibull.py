@@ -1,10 +1,10 @@
-"""Weibull heterogeneity of the critical stretch (seed 001 eqs 25-26, SPEC.md 2.3).
+"""Weibull heterogeneity of the critical stretch (SED-PD (2021), eqs 25-26).
 
 Each point draws u_i from the Weibull law f(u) = (m/u0) (u/u0)^(m-1) exp[-(u/u0)^m]
 by inversion, u_i = scale (-ln U_i)^(1/m) with U_i ~ U(0, 1) from NumPy's PCG64
 generator seeded with ``seed`` (same seed, same field, on any machine). The varied
 parameter is either the fracture energy G (default: s_i = s0 sqrt(G_i / u0), since
-s ~ sqrt(G) in eq. 26) or the critical stretch itself (s_i = s0 u_i / u0). The seed
+s ~ sqrt(G) in eq. 26) or the critical stretch itself (s_i = s0 u_i / u0). The paper
 calls u0 "the mean" but uses it as the scale: ``u0_is="scale"`` (default) takes it as
 the scale; ``u0_is="mean"`` rescales so the mean is u0 (scale u0 / Gamma(1 + 1/m)).
 The bond threshold is the mean of its two points' values (done by the damage model).
@@ -27,7 +27,8 @@ class WeibullField:
     Parameters
     ----------
     shape : float
-        Weibull modulus m > 0 (seed 001 tests 2, 6, 10, 20, 50, 100; adopts 10).
+        Weibull modulus m > 0 (SED-PD (2021), section 3.2, tests 2, 6, 10, 20, 50,
+        100; adopts 10).
     seed : int
         Seed of the generator (>= 0).
     variable : {"fracture_energy", "critical_stretch"}

@@ -242,7 +242,7 @@ class Discretisation(Strict):
 
 # -------------------------------------------------------------------------- material
 class Viscosity(Strict):
-    """Viscous bond forces of seed 003 (eqs 53-56): b1 (linear), b2 (quadratic)."""
+    """Viscous bond forces of PD wave dispersion (n.d.) (eqs 53-56): b1 (linear), b2 (quadratic)."""
 
     linear: NonNegFloat = 0.0
     quadratic: NonNegFloat = 0.0
@@ -297,7 +297,7 @@ AnyMaterial = Annotated[
 
 
 class WeibullSpec(Strict):
-    """Weibull heterogeneity of the critical stretch (seed 001 eqs 25-26)."""
+    """Weibull heterogeneity of the critical stretch (SED-PD (2021), eqs 25-26)."""
 
     shape: PosFloat
     seed: Annotated[int, Field(ge=0), _Num] = 0
@@ -306,7 +306,7 @@ class WeibullSpec(Strict):
 
 
 class SEDSofteningSpec(Strict):
-    """Strain-energy-density softening (seed 001 eqs 18-24)."""
+    """Strain-energy-density softening (SED-PD (2021), eqs 18-24)."""
 
     levels: Annotated[int, Field(ge=1, le=1000), _Num] = 10
     k_c: Annotated[float, Field(gt=1, allow_inf_nan=False), _Num] = 4.0
@@ -534,7 +534,7 @@ class Precrack(Strict):
 # ----------------------------------------------------------------------------- solver
 class Hybrid(Strict):
     """Run a cheap first model until the stretch reaches ``switch_fraction`` x s0, then
-    the deck's peridynamic model (seed 000 section 3.3)."""
+    the deck's peridynamic model (Lu & Wang (2016), section 3.3)."""
 
     first: Literal["fdm", "pd"]
     first_horizon_factor: Annotated[float, Field(ge=1.0, allow_inf_nan=False), _Num] = 1.0
@@ -636,7 +636,7 @@ class CrackTip(Strict):
 
 class Fracture(Strict):
     """Fracture detection: the first time any point's damage reaches ``damage_threshold``
-    (seed 000: phi0 = 0.3), checked after every step in which bonds break."""
+    (Lu & Wang (2016): phi0 = 0.3), checked after every step in which bonds break."""
 
     damage_threshold: Annotated[float, Field(gt=0, le=1), _Num] = 0.3
     stop: bool = False

@@ -5,7 +5,7 @@ that the tests compare against. The kernels gather over each point's family in a
 directed CSR bond list (both (i, j) and (j, i) stored), so each point is written by
 one thread only: no atomics.
 
-Equations (seed 000 eqs 1-8, seed 001 eqs 6-11, SPEC.md section 0.1):
+Equations (Lu & Wang (2016), eqs 1-8; SED-PD (2021), eqs 6-11; docs/theory_bond_based.md):
 
 * stretch            s_k = (|xi_k + eta_k| - |xi_k|) / |xi_k|
 * force density      f_i = sum_k stiffness_k * mu_k * s_k * (xi_k + eta_k) / |xi_k + eta_k|
@@ -224,7 +224,7 @@ def force_sed_2d(
     x, u, offsets, bond_j, inv_length, stiffness, intact, s0, s0_min, force, smax_out, nbroken,
     k0l, tensile, energy,
 ):  # fmt: skip
-    """:func:`force_2d` that also fills ``energy`` (n,) with the SED of seed 001 eq. 22
+    """:func:`force_2d` that also fills ``energy`` (n,) with the SED of SED-PD (2021), eq. 22
     from the initial stiffness (``k0l`` = stiffness0 |xi| / 4, (n_bonds,)), in the same
     pass over the bonds: the softening update then needs no bond loop of its own."""
     n = offsets.shape[0] - 1  # points that own a family (ghosts, if any, follow)
@@ -303,7 +303,7 @@ def first_bad_point(u, v, shift, limit):
 
 @_exact
 def damage(offsets, bond_volume, intact, out):
-    """Local damage phi_i = 1 - sum mu_k V_k / sum V_k (seed 000 eq. 7), shape (n,).
+    """Local damage phi_i = 1 - sum mu_k V_k / sum V_k (Lu & Wang (2016), eq. 7), shape (n,).
 
     Computed as (sum of broken V) / (sum V) without fast-math, so a family with no
     broken bond has exactly zero damage.

@@ -32,7 +32,7 @@ def kick(v, force, body, inv_mass, dt):
 
 @_kernel
 def central_difference(u, u_prev, v, force, body, inv_mass, dt):
-    """Central difference (seed 000 eq. 10): u+ = 2u - u- + dt^2 a.
+    """Central difference (Lu & Wang (2016), eq. 10): u+ = 2u - u- + dt^2 a.
 
     On return ``u_prev`` holds the old ``u`` and ``v`` the mid-step velocity
     (u+ - u) / dt.

@@ -1,4 +1,4 @@
-"""Strain-energy-density softening kernel (seed 001 eqs 18-24). NumPy twin:
+"""Strain-energy-density softening kernel (SED-PD (2021), eqs 18-24). NumPy twin:
 :func:`peridynamics.kernels.reference.sed_update`.
 
 A hot kernel (called before every force evaluation): fast-math lets LLVM vectorise the

@@ -1,7 +1,7 @@
-"""Viscous bond forces (seed 003 eqs 45-56), added to the elastic bond forces.
+"""Viscous bond forces (PD wave dispersion (n.d.), eqs 45-56), added to the elastic bond forces.
 
 Each bond carries a force along its *deformed* direction n = (xi + eta) / |xi + eta|,
-so linear and angular momentum are conserved (seed 003 eqs 45-48):
+so linear and angular momentum are conserved (PD wave dispersion (n.d.), eqs 45-48):
 
 * bond strain rate      zeta_k = (eta_dot_k . n_k) / |xi_k|                (eq. 52)
 * bond viscous force    f_k = lin * zeta_k + quad * zeta_k * |zeta_k|       (eqs 53, 55, 56)

@@ -1,7 +1,7 @@
 """Bond-based prototype microelastic brittle (PMB) / linear microelastic material.
 
-Micromodulus by energy equivalence with the classical strain energy (seed 000 eq. 4,
-seed 003 eq. 7, SPEC.md section 0.1) for a constant profile:
+Micromodulus by energy equivalence with the classical strain energy
+(Lu & Wang (2016), eq. 4; PD wave dispersion (n.d.), eq. 7) for a constant profile:
 
 * 1-D bar of area A:          c = 2 E / (A delta^2)
 * 2-D plane stress, thick h:  c = 9 E / (pi h delta^3)       (nu = 1/3 fixed)
@@ -73,8 +73,9 @@ class BondBasedMaterial:
         Micromodulus profile over the horizon.
     micromodulus_value : float, optional
         Use this constant-profile micromodulus c (N/m^6) instead of the energy-equivalent
-        one, e.g. seed 001's printed 18 k / (pi delta^4) in its plane-stress model
-        (SPEC.md 2.1). E then only enters the outputs that quote it.
+        one, e.g. the 18 k / (pi delta^4) printed in SED-PD (2021), eq. 8, for its
+        plane-stress model (see docs/theory_rock.md). E then only enters the outputs that
+        quote it.
     """
 
     youngs_modulus: float
@@ -104,8 +105,8 @@ class BondBasedMaterial:
     def micromodulus_constant(
         self, dim: int, horizon: float, cross_section: float, plane: str | None
     ) -> float:
-        """Constant-profile micromodulus c (N/m^6), SPEC.md section 0.1 (or the value
-        given as ``micromodulus_value``)."""
+        """Constant-profile micromodulus c (N/m^6), table in docs/theory_bond_based.md
+        (or the value given as ``micromodulus_value``)."""
         if self.micromodulus_value is not None:
             return float(self.micromodulus_value)
         E, d = self.youngs_modulus, horizon

@@ -1,4 +1,4 @@
-"""Strain-energy-density softening of bond stiffness (Zhou et al. (2016), eqs 18-24)
+"""Strain-energy-density softening of bond stiffness (SED-PD (2021), eqs 18-24)
 composed around a bond-based force model.
 
 The levels (``state["sed_level"]``, a history field) rise irreversibly with the point

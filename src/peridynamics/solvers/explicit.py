@@ -1,10 +1,10 @@
-"""Explicit dynamics: velocity Verlet (seed 001 eq. 12) and central difference (seed 000 eq. 10).
+"""Explicit dynamics: velocity Verlet (SED-PD (2021), eq. 12) and central difference
+(Lu & Wang (2016), eq. 10).
 
 Both integrators share one shape: ``init() -> State``, ``step(state) -> State``, the
-generator ``irun(state, n_steps)`` and ``run(...)``. The stable step is Silling &
-Askari's (2005) bound ``dt_i = sqrt(2 rho / sum_k stiffness_k / |xi_k|)`` minimised over
-points (SPEC.md section 0.3); a user step above it is refused unless
-``allow_unstable=True``.
+generator ``irun(state, n_steps)`` and ``run(...)``. The stable step is the bound of
+Silling & Askari (2005), ``dt_i = sqrt(2 rho / sum_k stiffness_k / |xi_k|)`` minimised
+over points; a user step above it is refused unless ``allow_unstable=True``.
 """
 
 from __future__ import annotations

@@ -1,11 +1,11 @@
-"""1-D explicit finite differences for the wave equation (seed 000 eq. 17).
+"""1-D explicit finite differences for the wave equation (Lu & Wang (2016), eq. 17).
 
 ``FDMModel1D`` is a drop-in model for :class:`~peridynamics.solvers.ExplicitSolver`:
 rho u_tt = E (u_{i+1} - 2 u_i + u_{i-1}) / dx^2 + b_i on a uniform node grid, with free
 ends (the missing neighbour term is dropped, i.e. a ghost node u_{-1} = u_0). With the
 central-difference integrator this is the classical explicit FDM; it is exactly what
-bond-based PD with delta = dx and the seed-000 partial volumes computes (weight 1/2 on
-the single neighbour at delta), which the tests check to 1e-12.
+bond-based PD with delta = dx and the partial volumes of Lu & Wang (2016) computes
+(weight 1/2 on the single neighbour at delta), which the tests check to 1e-12.
 
 It carries the nearest-neighbour bond list (for bookkeeping, the hybrid switch and the
 shared output); its "stretch" is Delta u / dx between neighbours, and it never breaks

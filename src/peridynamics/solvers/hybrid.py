@@ -1,5 +1,5 @@
 """Hybrid explicit solvers: run a cheap scheme while the body is elastic, then switch to
-the fracture-capable peridynamic model (seed 000 section 3.3: PD1 -> PD3, FDM -> PD3).
+the fracture-capable peridynamic model (Lu & Wang (2016), section 3.3: PD1 -> PD3, FDM -> PD3).
 
 The switching rule is an object (any rule with ``should_switch(state, first, second)``),
 not a special case inside a solver. The two models share the points, so the transfer of
@@ -31,8 +31,8 @@ class SwitchingRule(Protocol):
 @dataclass
 class SwitchAtStretch:
     """Switch when the largest tensile stretch reaches ``fraction`` x the smallest
-    critical stretch of the second model (seed 000: 0.9 s0). For a finite-difference
-    first model the stretch is Delta u / dx between neighbours."""
+    critical stretch of the second model (Lu & Wang (2016), section 3.3: 0.9 s0). For a
+    finite-difference first model the stretch is Delta u / dx between neighbours."""
 
     fraction: float = 0.9
     _cached: tuple[Model, float] | None = field(default=None, repr=False, compare=False)
