@@ -71,11 +71,7 @@ def cmd_check(args: argparse.Namespace) -> int:
     try:
         if args.bonds:
             sim = Simulation.from_deck(deck)
-            extra = (
-                f", {sim.model.bonds.n_bonds} bonds, dt = {sim.solver.dt:.4g} s "
-                f"(stable limit {sim.solver.stable_time_step:.4g} s), "
-                f"{sim.n_steps} steps"
-            )
+            extra = f", {sim.model.bonds.n_bonds} bonds, {sim.solver.describe()}"
             n_points = sim.cloud.n_points
         else:
             n_points, extra = build_cloud(deck).n_points, ""
@@ -112,7 +108,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         if not args.quiet:
             print(
                 f"{deck.name}: {sim.cloud.n_points} points, {sim.model.bonds.n_bonds} bonds, "
-                f"dt = {sim.solver.dt:.4g} s, {sim.n_steps} steps -> {out}"
+                f"{sim.solver.describe()} -> {out}"
             )
         summary = sim.run(
             out, quiet=args.quiet, checkpoint_every=args.checkpoint_every, resume=bool(args.resume)

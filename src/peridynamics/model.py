@@ -204,8 +204,12 @@ class Model:
         fm, law, sed = self.force_model, self.damage_law, self._sed
         broken = 0
         energy_done = False
-        fused = isinstance(fm, PMBForceModel) and fm.fused_breaking
-        if commit and fused and isinstance(law, CriticalStretchLaw):
+        if (
+            commit
+            and isinstance(fm, PMBForceModel)
+            and fm.fused_breaking
+            and isinstance(law, CriticalStretchLaw)
+        ):
             if sed is not None and self.dim == 2:  # forces and SED energy in one pass
                 broken = fm.force_sed_and_break(
                     state, law.point_s0, law.family_s0_min, sed.k0l, sed.tensile, sed.energy
@@ -380,7 +384,7 @@ class Model:
         return -np.trace(self.point_stress(u, intact), axis1=1, axis2=2) / self.dim
 
     def stiffness_bound(self) -> NDArray[np.float64]:
-        """Per-point stiffness bound K_i of the force model (N/m^5), shape (n,)."""
+        """Per-point stiffness bound K_i of the force model (N/m^4), shape (n,)."""
         return self.force_model.stiffness_bound()
 
     def _elastic_bond_stiffness(self) -> NDArray[np.float64]:
@@ -401,8 +405,8 @@ class Model:
         With linear viscosity the bound shrinks as for a damped oscillator integrated
         explicitly: dt = dt_el (sqrt(1 + xi^2) - xi), where xi = gamma / dt_el is the
         damping ratio of the fastest mode (omega = 2 / dt_el) and gamma (s) the largest
-        ratio of viscous to elastic bond coefficient (the 1-D rate constant of PD wave dispersion (n.d.)
-        eq. 39). The quadratic term depends on the amplitude and is not included.
+        ratio of viscous to elastic bond coefficient (the 1-D rate constant of PD wave
+        dispersion (n.d.), eq. 39). The quadratic term depends on the amplitude and is not included.
         """
         bound = self.stiffness_bound()
         with np.errstate(divide="ignore"):

@@ -175,8 +175,8 @@ def build_solver(
             return ExplicitSolver(model, **_solver_options(s, kin, init, s.time_step))
         return build_adr(s, model, kin, init)
     except ValueError as exc:
-        raise SetupError(f"solver.{'time_step' if isinstance(s, dk.Solver) else 'type'}",
-                         str(exc)) from None  # fmt: skip
+        key = "solver.time_step" if isinstance(s, dk.Solver) else "solver"
+        raise SetupError(key, str(exc)) from None
 
 
 def build_adr(s: Any, model: Model, kin: list, init: list) -> Solver:
@@ -472,6 +472,7 @@ class Simulation:
         n_total = solver.total_steps()
         t_start = time.perf_counter()
         steps_done_here = 0
+        work = 0  # force evaluations: steps, or iterations of a static solver
         bar = _progress(quiet or not progress, n_total, state.step, self.deck.name)
         error = None
         try:
@@ -481,6 +482,7 @@ class Simulation:
                     result = solver.step(state)
                     result.broken = state.bonds_broken - before
                     steps_done_here += 1
+                    work += result.iterations
                     for ob in observers:
                         ob.on_step(ctx, state, result)
                     if state.step % 50 == 0 or solver.done(state):
@@ -491,10 +493,10 @@ class Simulation:
             good = exc.last_good or state
             VTKFrames(self.deck, self.model).frame(ctx, good, name="last_good.vtu")
             wall = time.perf_counter() - t_start
-            self._finish(ctx, state, observers, wall, steps_done_here, error)
+            self._finish(ctx, state, observers, wall, steps_done_here, work, error)
             raise
         wall = time.perf_counter() - t_start
-        return self._finish(ctx, state, observers, wall, steps_done_here, error)
+        return self._finish(ctx, state, observers, wall, steps_done_here, work, error)
 
     def _finish(
         self,
@@ -503,6 +505,7 @@ class Simulation:
         observers: list[Observer],
         wall: float,
         steps: int,
+        work: int,
         error: str | None,
     ) -> dict:
         """final_state.npz, the results every run has, then each observer's."""
@@ -540,9 +543,11 @@ class Simulation:
             "wall_s": wall,
             "steps": steps,
             "setup_s": self.setup_s,
-            "bond_updates_per_s": n_b * steps / wall if wall > 0 and steps else 0.0,
+            "bond_updates_per_s": n_b * work / wall if wall > 0 and work else 0.0,
             "seconds_per_step": wall / steps if steps else 0.0,
         }
+        if work != steps:  # a static solver: iterations per step vary
+            timing["iterations"] = work
         extra: dict[str, Any] = {"status": ctx.status, "files": files}
         if error:
             extra["error"] = error

@@ -87,12 +87,15 @@ def new_records(deck: dk.Deck) -> dict[str, Any]:
     }
 
 
-def _reduce(vals: NDArray, how: str) -> float:
+def _reduce(vals: NDArray, how: str, comm: Any) -> float:
+    """Reduce a probe's values over the node set on every rank (``comm``)."""
     if how == "mean":
-        return float(np.mean(vals))
+        return comm.sum(float(np.sum(vals))) / comm.sum(float(len(vals)))
     if how == "sum":
-        return float(np.sum(vals))
-    return float(np.max(vals) if how == "max" else np.min(vals))
+        return comm.sum(float(np.sum(vals)))
+    if how == "max":
+        return comm.max(float(np.max(vals)) if len(vals) else -np.inf)
+    return comm.min(float(np.min(vals)) if len(vals) else np.inf)
 
 
 # ----------------------------------------------------------------------- histories
@@ -132,7 +135,7 @@ class History(Observer):
         nodes = m.cloud.node_set(probe.set)
         if q in ("damage", "max_stretch"):
             vals = damage[nodes] if q == "damage" else s.max_stretch[nodes]
-            return float(_reduce(vals, probe.reduce or "max"))
+            return _reduce(vals, probe.reduce or "max", m.comm)
         if q == "reaction_force":
             f = -s.force[nodes] * m.cloud.volume[nodes, None]
             vec = m.comm.sum_array(f.sum(axis=0))
@@ -147,7 +150,7 @@ class History(Observer):
             if probe.component == "magnitude"
             else arr[:, COMP[probe.component]]
         )
-        return float(_reduce(vals, probe.reduce or "mean"))
+        return _reduce(vals, probe.reduce or "mean", m.comm)
 
     def record(self, ctx: RunContext, s: State) -> None:
         """Append one record."""
@@ -486,11 +489,11 @@ def observers_for(deck: dk.Deck, model: Model, hybrid: bool, checkpoint_every: i
     crash = int(os.environ.get("PERIDYNAMICS_CRASH_AT_STEP", "-1"))
     if crash >= 0:
         obs.append(CrashAtStep(crash))
-    blasts = [
-        spec.time_function
-        for spec in deck.boundary_conditions
-        if isinstance(getattr(spec, "time_function", None), dk.BlastTF)
-    ]
+    blasts: list[dk.BlastTF] = []
+    for spec in deck.boundary_conditions:
+        fn = getattr(spec, "time_function", None)
+        if isinstance(fn, dk.BlastTF):
+            blasts.append(fn)
     if blasts:
         obs.append(BlastRecord(blasts))
     if o.crack_tip is not None:

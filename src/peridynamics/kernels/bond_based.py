@@ -321,7 +321,7 @@ def damage(offsets, bond_volume, intact, out):
 
 @_exact
 def stiffness_bound_per_point(offsets, length, stiffness, out):
-    """K_i = sum_k stiffness_k / |xi_k| (N/m^5), the Silling & Askari (2005) bound."""
+    """K_i = sum_k stiffness_k / |xi_k| (N/m^4), the Silling & Askari (2005) bound."""
     n = offsets.shape[0] - 1
     for i in prange(n):
         acc = 0.0

@@ -1,5 +1,7 @@
 """Constitutive laws. Each is a small class around pure kernel functions."""
 
+from typing import Any
+
 from peridynamics.materials.bond_based import PROFILES, BondBasedMaterial, fixed_poisson_ratio
 
 
@@ -10,6 +12,6 @@ def _lps(*args: object, **kw: object) -> object:
 
 
 #: the registry of model families: ``material.model`` -> material class (or factory)
-MATERIALS = {"pmb": BondBasedMaterial, "bond_based": BondBasedMaterial, "lps": _lps}
+MATERIALS: dict[str, Any] = {"pmb": BondBasedMaterial, "bond_based": BondBasedMaterial, "lps": _lps}
 
 __all__ = ["MATERIALS", "PROFILES", "BondBasedMaterial", "fixed_poisson_ratio"]

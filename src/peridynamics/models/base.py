@@ -14,7 +14,7 @@ when to ``commit`` the proposal (explicit dynamics: every step; dynamic relaxati
 static solvers: on an accepted load step). The history it changes (``intact``) lives
 in the :class:`~peridynamics.solvers.state.State`.
 
-Units: force densities N/m^3, energy densities J/m^3, stiffness bounds N/m^5 (so that
+Units: force densities N/m^3, energy densities J/m^3, stiffness bounds N/m^4 (so that
 ``dt_i = sqrt(2 rho_i / K_i)`` is a time for a density in kg/m^3), tangents N/m.
 """
 
@@ -111,7 +111,7 @@ class ForceModel(ABC):
 
     @abstractmethod
     def stiffness_bound(self) -> NDArray[np.float64]:
-        """Per-point stiffness bound K_i (N/m^5) of the undamaged model: the stable
+        """Per-point stiffness bound K_i (N/m^4) of the undamaged model: the stable
         explicit step is ``min_i sqrt(2 rho_i / K_i)`` (Silling & Askari 2005) and the
         fictitious density of dynamic relaxation is built from it (Kilic & Madenci
         2010)."""

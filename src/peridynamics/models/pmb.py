@@ -132,7 +132,7 @@ class PMBForceModel(ForceModel):
         return out
 
     def stiffness_bound(self) -> NDArray[np.float64]:
-        """K_i = sum_k stiffness_k / |xi_k| (N/m^5): Silling & Askari (2005), eq. 18
+        """K_i = sum_k stiffness_k / |xi_k| (N/m^4): Silling & Askari (2005), eq. 18
         gives dt_i = sqrt(2 rho / K_i)."""
         b = self.bonds
         out = np.empty(len(b.offsets) - 1)

@@ -78,6 +78,10 @@ class Solver(Protocol):
         """Solver-specific entries of ``summary.json``'s results."""
         ...
 
+    def describe(self) -> str:
+        """One line for the command line (time step and length, or load steps)."""
+        ...
+
 
 def run_solver(solver: Solver, state: State | None = None) -> State:
     """Step ``solver`` until it is done (no observers) and return the final state."""

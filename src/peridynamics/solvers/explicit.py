@@ -160,6 +160,13 @@ class ExplicitSolver:
         """Steps of the whole run (0 without a run length)."""
         return self.n_steps or 0
 
+    def describe(self) -> str:
+        """dt, stable limit and number of steps."""
+        return (
+            f"dt = {self.dt:.4g} s (stable limit {self.stable_time_step:.4g} s), "
+            f"{self.total_steps()} steps"
+        )
+
     def summary_fields(self, state: State) -> dict[str, Any]:
         """Time step and stable limit (s)."""
         return {"time_step_s": self.dt, "stable_time_step_s": self.stable_time_step}

@@ -134,6 +134,10 @@ class HybridSolver:
     def total_steps(self) -> int:
         return self.second.total_steps()
 
+    def describe(self) -> str:
+        """dt, stable limit and number of steps of the hybrid run."""
+        return self.second.describe()
+
     def summary_fields(self, s: State) -> dict[str, Any]:
         """Time step, stable limit, and when the hybrid switched."""
         return {
