@@ -311,7 +311,7 @@ def build_material(m: Any) -> Any:
     :data:`peridynamics.materials.MATERIALS`, keyed by ``material.model``)."""
     try:
         if isinstance(m, dk.LPSMaterialSpec):
-            return MATERIALS["lps"](m.youngs_modulus, m.poisson_ratio, m.density)
+            return MATERIALS["lps"](m.youngs_modulus, m.poisson_ratio, m.density, m.influence)
         return MATERIALS[m.model](
             m.youngs_modulus, m.density, m.micromodulus_profile, m.micromodulus
         )

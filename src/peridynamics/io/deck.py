@@ -216,7 +216,7 @@ class Discretisation(Strict):
     horizon: PosFloat | None = None
     horizon_factor: Annotated[float, Field(ge=1.0, allow_inf_nan=False), _Num] | None = None
     partial_volume: Literal["truncated", "extended", "none"] = "truncated"
-    surface_correction: bool = False
+    surface_correction: bool = True  # the nominal E in the interior and at surfaces
 
     @model_validator(mode="after")
     def _horizon(self) -> Discretisation:
@@ -268,6 +268,7 @@ class LPSMaterialSpec(Strict):
     youngs_modulus: PosFloat
     density: PosFloat
     poisson_ratio: Annotated[float, Field(gt=-1.0, lt=0.5, allow_inf_nan=False), _Num] = 0.25
+    influence: Literal["constant", "inverse"] = "constant"
     viscosity: Viscosity | None = None
 
 

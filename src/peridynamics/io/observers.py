@@ -397,7 +397,10 @@ class WaveOutputs(Observer):
                 wc.source_position, wc.tail_margin,
             )  # fmt: skip
             results.update(errors)
-            results["wave_front_m"] = wc.source_position + speed * s.t
+            half = 0.5 * abs(wc.amplitude)
+            results["exact_front_m"] = wc.source_position + speed * s.t
+            results["exact_half_amplitude_front_m"] = measured_front(x, exact, half)
+            results["wave_front_m"] = measured_front(x, s.u[:, 0], half)
             path = ctx.out / "wave_profile.csv"
             np.savetxt(
                 path,
@@ -408,6 +411,25 @@ class WaveOutputs(Observer):
             )
             files.append(path.name)
         return files
+
+
+def measured_front(x: NDArray, u: NDArray, threshold: float) -> float | None:
+    """Leading edge of a pulse travelling towards +x (m): the largest x at which |u|
+    reaches ``threshold`` (half the amplitude in ``results``), linearly interpolated
+    between the two grid points around the crossing; ``None`` when |u| nowhere reaches
+    it. Applied to the simulated profile it gives ``wave_front_m``, to the exact one
+    ``exact_half_amplitude_front_m`` (the value to compare it with)."""
+    order = np.argsort(x)
+    xs, a = x[order], np.abs(u[order])
+    hit = np.flatnonzero(a >= threshold)
+    if hit.size == 0 or threshold <= 0:
+        return None
+    k = int(hit[-1])
+    if k + 1 >= len(xs):
+        return float(xs[k])
+    # |u| falls from >= threshold at k to < threshold at k + 1
+    w = (a[k] - threshold) / (a[k] - a[k + 1])
+    return float(xs[k] + w * (xs[k + 1] - xs[k]))
 
 
 class BlastRecord(Observer):
