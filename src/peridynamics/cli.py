@@ -1,22 +1,40 @@
-"""Command line: ``peridynamics run|check|examples|bench``.
+"""Command line: ``peridynamics run|check|examples|bench|dispersion|ensemble|help``.
 
-Exit codes: 0 success; 2 invalid deck or model set-up (the key path is on stderr);
-3 the run went unstable (a summary and ``last_good.vtu`` are written).
+Exit codes: 0 success; 2 invalid deck or model set-up (the key path is on stderr), a
+model too large for this machine, bad arguments; 3 the run went unstable (a summary and
+``last_good.vtu`` are written); 130 interrupted by Ctrl-C (a summary with status
+``"interrupted"`` and, when checkpointing is on, a checkpoint to resume from).
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
+import os
+import shlex
 import shutil
 import sys
+import typing
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from peridynamics import __version__
 
-EXIT_OK, EXIT_INVALID, EXIT_UNSTABLE = 0, 2, 3
+EXIT_OK, EXIT_INVALID, EXIT_UNSTABLE, EXIT_INTERRUPTED = 0, 2, 3, 130
+EXIT_CODES = """exit codes:
+  0    success
+  2    invalid deck or set-up (key.path: message on stderr), a model too large for
+       this machine (see --allow-large), bad arguments
+  3    run: the run went unstable (summary.json and last_good.vtu are written)
+  130  run: interrupted by Ctrl-C (summary.json with status "interrupted"; with
+       --checkpoint-every N also a checkpoint: peridynamics run DECK --resume DIR)"""
+#: bond updates per second assumed for the wall-time estimate (README: 3.5e8 measured)
+BOND_UPDATES_PER_S = 3e8
+#: more bond updates than this (steps x bonds) is refused without --allow-large
+MAX_BOND_UPDATES = 1e15
 
 
 def examples_dir() -> Path:
@@ -57,40 +75,176 @@ def _load(args: argparse.Namespace):  # noqa: ANN202 - returns a Deck
         return None
 
 
+def available_memory() -> tuple[float, str]:
+    """Bytes of memory a run may use here, and where the figure comes from: the smaller
+    of MemAvailable (/proc/meminfo) and the room left under a cgroup limit; else the
+    free physical pages (os.sysconf); else 8 GiB, assumed."""
+    found: list[tuple[float, str]] = []
+    try:
+        for line in Path("/proc/meminfo").read_text().splitlines():
+            if line.startswith("MemAvailable:"):
+                found.append((float(line.split()[1]) * 1024.0, "MemAvailable"))
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        limit = Path("/sys/fs/cgroup/memory.max").read_text().strip()
+        used = Path("/sys/fs/cgroup/memory.current").read_text().strip()
+        if limit != "max":
+            found.append((float(limit) - float(used), "the cgroup memory limit"))
+    except (OSError, ValueError):
+        pass
+    if not found:
+        try:
+            pages = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+            found.append((float(pages), "free physical memory"))
+        except (ValueError, OSError, AttributeError):
+            found.append((8.0 * 2**30, "assumed: the available memory could not be read"))
+    return min(found)
+
+
+def _human_time(seconds: float) -> str:
+    for unit, size in (("years", 3.15e7), ("days", 86400.0), ("hours", 3600.0)):
+        if seconds >= size:
+            return f"{seconds / size:.3g} {unit}"
+    return f"{seconds:.3g} s"
+
+
+def _size_problem(deck: Any, allow_large: bool, n_points: float | None = None) -> str | None:
+    """Why the model is too large for this machine (``None`` when it fits, when the size
+    cannot be estimated yet, or with ``allow_large``)."""
+    from peridynamics.io.deck import estimate_size
+
+    est = estimate_size(deck, n_points)
+    if est is None or allow_large:
+        return None
+    avail, source = available_memory()
+    if est.points >= 2**31 - 1:
+        why = "more points than the 32-bit point index holds"
+    elif est.bytes > avail:
+        why = f"more than the {avail / 1e9:.3g} GB available ({source})"
+    else:
+        return None
+    d = deck.discretisation
+    points_only = est.BASE_BYTES + est.BYTES_PER_POINT * est.points
+    key = "spacing"  # too many points, or a horizon that holds thousands of them:
+    if points_only < min(avail, 0.5 * est.bytes) and est.points < 2**31 - 1:
+        key = "horizon" if d.horizon is not None else "horizon_factor"
+    return (
+        f"discretisation.{key}: the model is too large: {est.describe()}, {why}. "
+        f"spacing = {d.spacing:g} m, horizon = {d.delta:g} m: check them (a typo in an "
+        "exponent?), or pass --allow-large to try anyway"
+    )
+
+
+def _work_problem(
+    steps: float | None, bonds: float, allow_large: bool, estimated: bool
+) -> str | None:
+    """Why steps x bonds is beyond any sensible run (``None`` when it is not)."""
+    if steps is None or allow_large:
+        return None
+    work = steps * bonds
+    if not work > MAX_BOND_UPDATES:
+        return None
+    about = "about " if estimated else ""
+    return (
+        f"solver: {about}{steps:.3g} steps x {bonds:.3g} bonds = {work:.3g} bond updates, "
+        f"about {_human_time(work / BOND_UPDATES_PER_S)} at {BOND_UPDATES_PER_S:.0e} bond "
+        f"updates/s (more than {MAX_BOND_UPDATES:.0e}); check solver.end_time, "
+        "solver.time_step and the material's units, or pass --allow-large to run anyway"
+    )
+
+
+def _built_problem(sim: Any, allow_large: bool) -> str | None:
+    """Checks of a built model: a finite, non-zero time step; a sensible amount of
+    work (steps x bonds)."""
+    solver = sim.solver
+    for attr, key in (("stable_time_step", "material.youngs_modulus"), ("dt", "solver.time_step")):
+        value = getattr(solver, attr, None)
+        if value is not None and not (math.isfinite(value) and value > 0):
+            return (
+                f"{key}: the {attr.replace('_', ' ')} is {value:.3g} s, not a finite time > 0; "
+                "check material.youngs_modulus (Pa), material.density (kg/m^3) and the "
+                "discretisation (m)"
+            )
+    from peridynamics.solvers.explicit import ExplicitSolver
+
+    inner = getattr(solver, "second", solver)  # a hybrid: the PD model sets the cost
+    steps = float(solver.total_steps()) if isinstance(inner, ExplicitSolver) else None
+    return _work_problem(steps, float(sim.model.bonds.n_bonds), allow_large, False)
+
+
+def _refuse(msg: str) -> int:
+    _err(f"invalid deck:\n  {msg}")
+    return EXIT_INVALID
+
+
+def _out_of_memory(exc: MemoryError) -> int:
+    _err(
+        f"error: out of memory ({exc or 'MemoryError'}): the model is too large for this "
+        "machine; use a coarser discretisation.spacing or a smaller horizon"
+    )
+    return EXIT_INVALID
+
+
 def cmd_check(args: argparse.Namespace) -> int:
     """Validate a deck and build its geometry and node sets, without running.
 
     With ``--bonds`` also build the bonds, the model and the solver: the time step is
-    then checked against the stable limit as ``run`` would.
+    then checked against the stable limit as ``run`` would. The size of the model is
+    estimated first and a model that cannot fit in memory is refused (exit 2) unless
+    ``--allow-large``.
     """
+    from peridynamics.io.deck import MeshGeometry, estimate_size, estimate_steps
     from peridynamics.runner import SetupError, Simulation, build_cloud
 
     deck = _load(args)
     if deck is None:
         return EXIT_INVALID
     try:
+        problem = _size_problem(deck, args.allow_large)
+        if problem:
+            return _refuse(problem)
         if args.bonds:
+            if isinstance(deck.geometry, MeshGeometry):  # the size is known once it is read
+                problem = _size_problem(deck, args.allow_large, build_cloud(deck).n_points)
+                if problem:
+                    return _refuse(problem)
             sim = Simulation.from_deck(deck)
+            problem = _built_problem(sim, args.allow_large)
             extra = f", {sim.model.bonds.n_bonds} bonds, {sim.solver.describe()}"
             n_points = sim.cloud.n_points
         else:
             n_points, extra = build_cloud(deck).n_points, ""
+            est = estimate_size(deck, n_points)
+            problem = _size_problem(deck, args.allow_large, n_points)
+            if problem is None and est is not None:
+                problem = _work_problem(estimate_steps(deck), est.bonds, args.allow_large, True)
+        if problem:
+            return _refuse(problem)
     except SetupError as exc:
         _err(f"invalid deck:\n  {exc}")
         return EXIT_INVALID
+    except MemoryError as exc:
+        return _out_of_memory(exc)
     print(f"{args.deck}: valid ({deck.dim}-D, {n_points} points{extra})")
     return EXIT_OK
 
 
+def _resume_hint(args: argparse.Namespace, out: Path) -> str:
+    sets = "".join(f" --set {shlex.quote(s)}" for s in args.set or [])
+    return f"peridynamics run {shlex.quote(str(args.deck))} --resume {shlex.quote(str(out))}{sets}"
+
+
 def cmd_run(args: argparse.Namespace) -> int:
     """Run a deck."""
-    from peridynamics.runner import SetupError, Simulation
+    from peridynamics.io.deck import MeshGeometry
+    from peridynamics.runner import RunInterrupted, SetupError, Simulation, build_cloud
     from peridynamics.solvers import SimulationUnstable
 
     if args.resume and args.out:
         _err("give either --out DIR (a new run) or --resume DIR (continue the run in DIR)")
         return EXIT_INVALID
-    if args.checkpoint_every < 0:
+    if args.checkpoint_every is not None and args.checkpoint_every < 0:
         _err("--checkpoint-every must be >= 0 (0: no checkpoints)")
         return EXIT_INVALID
     if args.resume and not Path(args.resume).is_dir():
@@ -103,25 +257,47 @@ def cmd_run(args: argparse.Namespace) -> int:
     if out.exists() and not out.is_dir():
         _err(f"--out: {str(out)!r} exists and is not a folder")
         return EXIT_INVALID
+    every = args.checkpoint_every if args.resume else (args.checkpoint_every or 0)
     try:
+        problem = _size_problem(deck, args.allow_large)
+        if problem is None and isinstance(deck.geometry, MeshGeometry):
+            problem = _size_problem(deck, args.allow_large, build_cloud(deck).n_points)
+        if problem:
+            return _refuse(problem)
         sim = Simulation.from_deck(deck)
+        problem = _built_problem(sim, args.allow_large)
+        if problem:
+            return _refuse(problem)
         if not args.quiet:
             print(
                 f"{deck.name}: {sim.cloud.n_points} points, {sim.model.bonds.n_bonds} bonds, "
                 f"{sim.solver.describe()} -> {out}"
             )
-        summary = sim.run(
-            out, quiet=args.quiet, checkpoint_every=args.checkpoint_every, resume=bool(args.resume)
-        )
+        summary = sim.run(out, quiet=args.quiet, checkpoint_every=every, resume=bool(args.resume))
     except SetupError as exc:
-        _err(f"invalid deck:\n  {exc}")
+        _err(f"error: {exc}" if exc.path.startswith("--") else f"invalid deck:\n  {exc}")
         return EXIT_INVALID
     except OSError as exc:  # no checkpoint, unwritable output folder, ...
         _err(f"error: {exc}")
         return EXIT_INVALID
+    except MemoryError as exc:
+        return _out_of_memory(exc)
     except SimulationUnstable as exc:
         _err(f"error: {exc}\nwrote {out / 'last_good.vtu'} and {out / 'summary.json'}")
         return EXIT_UNSTABLE
+    except RunInterrupted as exc:
+        _err(
+            f"interrupted after step {exc.step} of {exc.total} (t = {exc.t:.6g} s); wrote "
+            f'{out / "summary.json"} (status "interrupted")'
+        )
+        if exc.checkpoint is not None:
+            _err(f"checkpoint: {exc.checkpoint}\nresume with: {_resume_hint(args, out)}")
+        else:
+            _err(
+                "no checkpoint (checkpointing is off): run with --checkpoint-every N "
+                "to be able to resume an interrupted run"
+            )
+        return EXIT_INTERRUPTED
     if not args.quiet:
         r, t = summary["results"], summary["timing"]
         print(
@@ -146,26 +322,39 @@ def cmd_ensemble(args: argparse.Namespace) -> int:
     if args.n < 1:
         _err("--n must be >= 1")
         return EXIT_INVALID
+    from peridynamics.runner import RunInterrupted
+
     deck = _load(args)
     if deck is None:
         return EXIT_INVALID
     if deck.damage.weibull is None:
         _err("ensemble: the deck has no damage.weibull section (nothing to vary)")
         return EXIT_INVALID
+    problem = _size_problem(deck, args.allow_large)
+    if problem:
+        return _refuse(problem)
     out = Path(args.out or Path("results") / f"{deck.name}_ensemble")
-    runs = []
+    runs: list[dict[str, Any]] = []
     for k in range(args.n):
         seed = args.seed0 + k
         try:
             member = load_deck(args.deck, [*(args.set or []), f"damage.weibull.seed={seed}"])
             sim = Simulation.from_deck(member)
+            problem = _built_problem(sim, args.allow_large)
+            if problem:
+                return _refuse(problem)
             summary = sim.run(out / f"seed_{seed}", quiet=True)
         except (DeckError, SetupError) as exc:
             _err(f"invalid deck:\n  {exc}")
             return EXIT_INVALID
+        except MemoryError as exc:
+            return _out_of_memory(exc)
         except SimulationUnstable as exc:
             _err(f"error (seed {seed}): {exc}")
             return EXIT_UNSTABLE
+        except RunInterrupted as exc:
+            _err(f"interrupted in seed {seed} after step {exc.step}; {len(runs)} run(s) done")
+            return EXIT_INTERRUPTED
         r = summary["results"]
         runs.append(
             {
@@ -176,21 +365,25 @@ def cmd_ensemble(args: argparse.Namespace) -> int:
             }
         )
         if not args.quiet:
+            peak = r.get("peak_stress_Pa")
             print(
-                f"seed {seed}: peak stress {r.get('peak_stress_Pa')}, damaged area "
-                f"{r['damaged_area_fraction']:.4f}"
+                f"seed {seed}: peak stress "
+                f"{'n/a (no output.stress_strain)' if peak is None else f'{peak:.4g} Pa'}, "
+                f"damaged area fraction {r['damaged_area_fraction']:.4f}"
             )
 
-    def spread(key: str) -> dict[str, float] | None:
+    def spread(key: str) -> dict[str, float | None] | None:
         vals = np.array([r[key] for r in runs if r[key] is not None], dtype=float)
         if vals.size == 0:
             return None
+        many = vals.size > 1  # a sample standard deviation needs two runs
+        std = float(vals.std(ddof=1)) if many else None
         return {
             "mean": float(vals.mean()),
-            "std": float(vals.std(ddof=1)) if vals.size > 1 else 0.0,
+            "std": std,
             "min": float(vals.min()),
             "max": float(vals.max()),
-            "cv": float(vals.std(ddof=1) / vals.mean()) if vals.size > 1 and vals.mean() else 0.0,
+            "cv": std / float(vals.mean()) if std is not None and vals.mean() else None,
         }
 
     report = {
@@ -204,6 +397,19 @@ def cmd_ensemble(args: argparse.Namespace) -> int:
     out.mkdir(parents=True, exist_ok=True)
     (out / "ensemble.json").write_text(json.dumps(report, indent=2))
     if not args.quiet:
+        for key, label, unit, fmt in (
+            ("peak_stress_Pa", "peak stress", " Pa", ".4g"),
+            ("damaged_area_fraction", "damaged area fraction", "", ".4f"),
+        ):
+            sp = report[key]
+            if sp is None:
+                continue
+            std = "n/a (n = 1)" if sp["std"] is None else f"{sp['std']:{fmt}}{unit}"
+            cv = "n/a" if sp["cv"] is None else f"{sp['cv']:.3g}"
+            print(
+                f"{label}: mean {sp['mean']:{fmt}}{unit}, std {std}, cv {cv}, "
+                f"range {sp['min']:{fmt}} .. {sp['max']:{fmt}}{unit}"
+            )
         print(f"wrote {out / 'ensemble.json'}")
     return EXIT_OK
 
@@ -215,22 +421,36 @@ def cmd_examples(args: argparse.Namespace) -> int:
         for name, path in ex.items():
             print(f"{name:40s} {path}")
         return EXIT_OK
-    if not args.name or args.name not in ex:
+    if not args.name:
+        _err(
+            "examples copy: give the NAME of an example (and a DEST folder), e.g. "
+            f"peridynamics examples copy bar_wave_1d mine/; known: {', '.join(ex)}"
+        )
+        return EXIT_INVALID
+    if args.name not in ex:
         _err(f"unknown example {args.name!r}; known: {', '.join(ex)}")
         return EXIT_INVALID
     src = ex[args.name]
     dest = Path(args.dest or ".")
     dest.mkdir(parents=True, exist_ok=True)
-    whole_folder = src.stem == "deck" or src.suffix == ".py"
+    # an example is its folder (decks, mesh files, scripts, README): copy all of it;
+    # only a deck lying at the top of the examples tree is copied alone
+    whole_folder = src.parent != examples_dir()
     target = dest / (src.parent.name if whole_folder else src.name)
     if target.exists() and not args.force:
         _err(f"{str(target)!r} exists; not overwriting your copy (use --force to replace it)")
         return EXIT_INVALID
-    if whole_folder:  # a folder example: copy the whole folder
+    if whole_folder:
         shutil.copytree(src.parent, target, dirs_exist_ok=True)
+        if src.stem == "deck" or src.suffix == ".py":
+            print(f"copied {args.name} to {target}")
+        else:  # one deck of a folder of decks
+            print(
+                f"copied {args.name} with its folder to {target}; the deck is {target / src.name}"
+            )
     else:
         shutil.copy2(src, target)
-    print(f"copied {args.name} to {target}")
+        print(f"copied {args.name} to {target}")
     return EXIT_OK
 
 
@@ -329,6 +549,10 @@ def _advise(args: argparse.Namespace) -> int:
         return EXIT_INVALID
     # a pulse of duration T carries most of its energy below about 2 / T
     freq = args.frequency if args.frequency is not None else 2.0 / args.pulse_duration
+    for name, value in (("--youngs-modulus", args.youngs_modulus), ("--density", args.density)):
+        if not (math.isfinite(value) and value > 0):
+            _err(f"{name} must be a finite number > 0, got {value}")
+            return EXIT_INVALID
     try:
         adv = dsp.advise_1d(
             freq, args.tolerance, args.youngs_modulus, args.density, m_min=args.m_min
@@ -336,11 +560,15 @@ def _advise(args: argparse.Namespace) -> int:
     except ValueError as exc:
         _err(f"error: {exc}")
         return EXIT_INVALID
+    speed = math.sqrt(args.youngs_modulus / args.density)
     if args.json:
         print(
             json.dumps(
                 {
                     "frequency_hz": adv.frequency,
+                    "youngs_modulus_Pa": args.youngs_modulus,
+                    "density_kg_per_m3": args.density,
+                    "wave_speed_m_per_s": speed,
                     "m": adv.m,
                     "spacing_m": adv.spacing,
                     "horizon_m": adv.horizon,
@@ -350,6 +578,10 @@ def _advise(args: argparse.Namespace) -> int:
             )
         )
         return EXIT_OK
+    print(
+        f"material: E = {args.youngs_modulus:.4g} Pa, rho = {args.density:.4g} kg/m^3 "
+        f"(wave speed {speed:.4g} m/s; set them with --youngs-modulus and --density)"
+    )
     print(f"up to {adv.frequency:.4g} Hz with phase-speed error <= {args.tolerance:g}:")
     print(
         f"  use m = {adv.m}, dx = {adv.spacing:.4g} m, delta = {adv.horizon:.4g} m "
@@ -360,10 +592,122 @@ def _advise(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _type_name(ann: Any) -> str:
+    """A reader's name for a schema annotation."""
+    from pydantic import BaseModel
+
+    origin, args = typing.get_origin(ann), typing.get_args(ann)
+    if origin is typing.Annotated:
+        return _type_name(args[0])
+    if origin is typing.Literal:
+        return " | ".join(str(a).lower() if isinstance(a, bool) else str(a) for a in args)
+    if origin in (typing.Union, getattr(__import__("types"), "UnionType", None)):
+        names = [_type_name(a) for a in args if a is not type(None)]
+        return " or ".join(dict.fromkeys(names))
+    if origin in (list, tuple):
+        inner = [a for a in args if a is not Ellipsis]
+        if origin is tuple and len(inner) > 1:
+            return f"[{', '.join(_type_name(a) for a in inner)}]"
+        return f"list of {_type_name(inner[0])}" if inner else "list"
+    if origin is dict:
+        return f"mapping of name -> {_type_name(args[1])}"
+    if isinstance(ann, type) and issubclass(ann, BaseModel):
+        return "mapping"
+    return {float: "number", int: "integer", str: "string", bool: "true/false"}.get(
+        ann, getattr(ann, "__name__", str(ann))
+    )
+
+
+def _sub_models(ann: Any) -> list[Any]:
+    from pydantic import BaseModel
+
+    if isinstance(ann, type) and issubclass(ann, BaseModel):
+        return [ann]
+    out: list[Any] = []
+    for a in typing.get_args(ann):
+        for m in _sub_models(a):
+            if m not in out:
+                out.append(m)
+    return out
+
+
+def deck_reference(section: str | None = None) -> str:
+    """The keys a deck accepts, from the schema itself (what ``peridynamics help deck``
+    prints): for each key its type and default, nested sections indented, one block per
+    ``type`` / ``model`` where a section has several kinds."""
+    from pydantic_core import PydanticUndefined
+
+    from peridynamics.io.deck import Deck
+
+    lines: list[str] = []
+    shown: dict[Any, str] = {}  # section model -> the key path where its keys are listed
+
+    def walk(model: Any, indent: str, where: str) -> None:
+        for name, f in model.model_fields.items():
+            key = f.alias or name
+            path = f"{where}.{key}" if where else key
+            if f.is_required():
+                default = "required"
+            elif f.default is PydanticUndefined or f.default is None:
+                default = "optional"
+            else:
+                d = f.default
+                d = d.model_dump(mode="json") if hasattr(d, "model_dump") else d
+                default = f"default {json.dumps(d)}"
+            lines.append(f"{indent}{key}: {_type_name(f.annotation)} ({default})")
+            subs = _sub_models(f.annotation)
+            if subs and all(sub in shown for sub in subs):
+                lines.append(f"{indent}  (the keys listed under {shown[subs[0]]})")
+                continue
+            for sub in subs:
+                doc = (sub.__doc__ or sub.__name__).strip().splitlines()[0]
+                pad = indent + ("    " if len(subs) > 1 else "  ")
+                if len(subs) > 1:
+                    lines.append(f"{indent}  - {doc}")
+                if sub in shown:
+                    lines.append(f"{pad}(the keys listed under {shown[sub]})")
+                    continue
+                shown[sub] = path
+                walk(sub, pad, path)
+
+    fields = Deck.model_fields
+    if section is not None:
+        if section not in fields:
+            raise KeyError(section)
+        fields = {section: fields[section]}
+
+    class One:
+        model_fields = fields
+
+    walk(One, "", "")
+    return "\n".join(lines)
+
+
+def cmd_help(args: argparse.Namespace) -> int:
+    """Print the keys a deck accepts (from the schema, so it matches this version)."""
+    from peridynamics.io.deck import Deck
+
+    try:
+        text = deck_reference(args.section)
+    except KeyError:
+        _err(f"unknown section {args.section!r}; sections: {', '.join(Deck.model_fields)}")
+        return EXIT_INVALID
+    print(text)
+    if args.section is None:
+        print(
+            "\nThe full reference, with units, allowed ranges and examples, is docs/deck.md "
+            "in the source tree; `peridynamics examples copy NAME DIR` gives complete decks."
+        )
+    return EXIT_OK
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser."""
     p = argparse.ArgumentParser(
-        prog="peridynamics", description="Peridynamic simulation of fracture and waves."
+        prog="peridynamics",
+        description="Peridynamic simulation of fracture and waves.",
+        epilog=EXIT_CODES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("--version", action="version", version=f"peridynamics {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
@@ -377,18 +721,34 @@ def build_parser() -> argparse.ArgumentParser:
             help="override a deck value (repeatable), e.g. solver.steps=100",
         )
 
-    r = sub.add_parser("run", help="run a deck")
+    def large_arg(sp: argparse.ArgumentParser) -> None:
+        sp.add_argument(
+            "--allow-large",
+            action="store_true",
+            help="do not refuse a model estimated to exceed the available memory, or a run "
+            f"of more than {MAX_BOND_UPDATES:.0e} bond updates (steps x bonds)",
+        )
+
+    r = sub.add_parser(
+        "run",
+        help="run a deck",
+        epilog=EXIT_CODES + "\n\nCtrl-C stops after the current step and writes the outputs "
+        "and summary.json;\nwith --checkpoint-every N, resume with --resume DIR.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     deck_args(r)
     r.add_argument("--out", help="output folder (default results/<name>)")
     r.add_argument("--quiet", action="store_true", help="no progress bar or messages")
     r.add_argument(
         "--checkpoint-every",
         type=int,
-        default=0,
+        default=None,
         metavar="N",
-        help="write an atomic checkpoint every N steps",
+        help="write an atomic checkpoint every N steps, and one of the final state "
+        "(default 0: none; with --resume: the interval of the original run)",
     )
     r.add_argument("--resume", metavar="DIR", help="continue from the checkpoint in DIR")
+    large_arg(r)
     r.set_defaults(func=cmd_run)
 
     en = sub.add_parser("ensemble", help="run N Weibull realisations of a deck")
@@ -397,6 +757,7 @@ def build_parser() -> argparse.ArgumentParser:
     en.add_argument("--seed0", type=int, default=0, help="first seed (then +1, +2, ...)")
     en.add_argument("--out", help="output folder (default results/<name>_ensemble)")
     en.add_argument("--quiet", action="store_true")
+    large_arg(en)
     en.set_defaults(func=cmd_ensemble)
 
     c = sub.add_parser("check", help="validate a deck without running (exit 0 valid, 2 not)")
@@ -406,9 +767,17 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="also build bonds, model and solver (checks the time step)",
     )
+    large_arg(c)
     c.set_defaults(func=cmd_check)
 
-    e = sub.add_parser("examples", help="list the examples, or copy one: examples copy NAME DIR")
+    hp = sub.add_parser("help", help="the keys a deck accepts: help deck [SECTION]")
+    hp.add_argument("topic", choices=["deck"])
+    hp.add_argument("section", nargs="?", help="one top-level section (geometry, solver, ...)")
+    hp.set_defaults(func=cmd_help)
+
+    e = sub.add_parser(
+        "examples", help="list the examples, or copy one (its whole folder): examples copy NAME DIR"
+    )
     e.add_argument("action", nargs="?", choices=["list", "copy"], default="list")
     e.add_argument("name", nargs="?")
     e.add_argument("dest", nargs="?")
@@ -431,8 +800,18 @@ def build_parser() -> argparse.ArgumentParser:
         help="advice: shortest pulse duration (s); frequency = 2 / duration",
     )
     d.add_argument("--tolerance", type=float, default=0.01, help="advice: phase-speed error")
-    d.add_argument("--youngs-modulus", type=float, default=20e9, help="advice: E (Pa)")
-    d.add_argument("--density", type=float, default=2620.0, help="advice: rho (kg/m^3)")
+    d.add_argument(
+        "--youngs-modulus",
+        type=float,
+        default=20e9,
+        help="advice: E (Pa; default 20e9, a rock; printed with the advice)",
+    )
+    d.add_argument(
+        "--density",
+        type=float,
+        default=2620.0,
+        help="advice: rho (kg/m^3; default 2620, a rock; printed with the advice)",
+    )
     d.add_argument("--m-min", type=int, default=3, help="advice: smallest m to recommend")
     d.set_defaults(func=cmd_dispersion)
 
@@ -448,7 +827,16 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``peridynamics`` console script."""
     args = build_parser().parse_args(argv)
-    return int(args.func(args))
+    try:
+        return int(args.func(args))
+    except KeyboardInterrupt:  # Ctrl-C outside a run's loop (set-up), or a second one
+        _err("interrupted (Ctrl-C); nothing more was written")
+        return EXIT_INTERRUPTED
+    except MemoryError as exc:
+        return _out_of_memory(exc)
+    except BrokenPipeError:  # the reader went away (peridynamics help deck | head)
+        sys.stdout = open(os.devnull, "w")  # noqa: SIM115 - no flush error at exit
+        return EXIT_OK
 
 
 if __name__ == "__main__":

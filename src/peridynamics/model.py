@@ -97,8 +97,7 @@ class Model:
         c = self.cloud
         self.force_model = self.material.force_model(c, self.bonds, self.surface_correction)
         self.bonds = self.force_model.bonds  # with the surface-correction factors
-        law = CriticalStretchLaw(self.damage, c.x, self.bonds)
-        self.damage_law = law
+        self.damage_law = self.damage.law(c.x, self.bonds)
         self.inv_length = 1.0 / self.bonds.bond_length
         self.density = np.full(c.n_points, self.material.density)
         if not (np.isfinite(self.damping) and self.damping >= 0):

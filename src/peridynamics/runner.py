@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import hashlib
 import json
+import signal
+import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -23,7 +25,12 @@ from peridynamics.bonds.bonds import Bonds
 from peridynamics.damage import NO_DAMAGE, CriticalStretch, SEDSoftening, WeibullField
 from peridynamics.geometry import PointCloud, bar, box, cylinder, from_mesh, rectangle
 from peridynamics.io import deck as dk
-from peridynamics.io.checkpoint import read_checkpoint
+from peridynamics.io.checkpoint import (
+    CHECKPOINT_NAME,
+    read_checkpoint,
+    read_checkpoint_meta,
+    write_checkpoint,
+)
 from peridynamics.io.observers import Observer, RunContext, VTKFrames, new_records, observers_for
 from peridynamics.io.regions import to_region
 from peridynamics.io.summary import write_summary
@@ -255,7 +262,7 @@ def build_conditions(deck: dk.Deck, cloud: PointCloud) -> tuple[list, list, list
         elif isinstance(spec, dk.FixedBC):
             kin.append(bc.Fixed(nodes, tuple(spec.components) if spec.components else None))
         elif isinstance(spec, dk.InitialVelocityBC):
-            init.append(bc.InitialVelocity(nodes, tuple(spec.value)))
+            init.append(bc.InitialVelocity(nodes, _initial_field(spec, ibc, nodes, cloud)))
         elif isinstance(spec, dk.BodyForceBC):
             body.append(bc.BodyForce(nodes, tuple(spec.value), time_function(spec.time_function)))
         elif isinstance(spec, dk.PressureBC) and spec.center is not None:
@@ -294,6 +301,43 @@ def build_conditions(deck: dk.Deck, cloud: PointCloud) -> tuple[list, list, list
                 )
             )
     return body, kin, init
+
+
+def _initial_field(
+    spec: dk.InitialVelocityBC, ibc: int, nodes: NDArray[np.intp], cloud: PointCloud
+) -> tuple[float, ...] | NDArray[np.float64]:
+    """The value of an initial condition on ``nodes``: one vector when every component
+    is a number, else one row per node (expressions of x, y, z evaluated at the nodes'
+    reference positions, or the rows of the file). Raises SetupError naming the key."""
+    path = f"boundary_conditions.{ibc}"
+    if spec.file is not None:
+        try:
+            values = bc.read_point_values(spec.file, cloud.dim)
+            return bc.point_rows(values, nodes, cloud.n_points, Path(spec.file).name)
+        except ValueError as exc:
+            raise SetupError(f"{path}.file", str(exc)) from None
+    assert spec.value is not None
+    if all(not isinstance(c, str) for c in spec.value):
+        return tuple(float(c) for c in spec.value)
+    x = cloud.x[nodes]
+    out = np.empty((len(nodes), len(spec.value)))
+    for k, comp in enumerate(spec.value):
+        if not isinstance(comp, str):
+            out[:, k] = float(comp)
+            continue
+        try:
+            out[:, k] = bc.FieldExpression(comp)(x)
+        except ValueError as exc:
+            raise SetupError(f"{path}.value.{k}", str(exc)) from None
+        bad = ~np.isfinite(out[:, k])
+        if np.any(bad):
+            first = x[np.flatnonzero(bad)[0]].tolist()
+            raise SetupError(
+                f"{path}.value.{k}",
+                f"{comp!r} is not finite at {int(bad.sum())} of the {len(nodes)} points of "
+                f"set {spec.set!r} (first at x = {first} m)",
+            )
+    return out
 
 
 def build_bonds_for(deck: dk.Deck, cloud: PointCloud) -> Bonds:
@@ -430,7 +474,7 @@ class Simulation:
         self,
         out_dir: str | Path,
         quiet: bool = False,
-        checkpoint_every: int = 0,
+        checkpoint_every: int | None = None,
         resume: bool = False,
         progress: bool = True,
     ) -> dict:
@@ -439,34 +483,57 @@ class Simulation:
         The loop is generic: ``solver.step`` until ``solver.done``, every observer's
         ``on_step`` after each step. Raises SimulationUnstable after writing
         ``last_good.vtu`` and a summary whose ``status`` is ``"unstable"``.
+
+        ``checkpoint_every``: steps between checkpoints (0: none; ``None``: 0 for a new
+        run, the interval of the interrupted run when resuming). A checkpointed run also
+        writes a checkpoint of its final state that records that the run finished, so a
+        ``resume`` of a finished run is refused (SetupError).
+
+        Ctrl-C (SIGINT, in the main thread) stops the run after the step in progress:
+        the state after that step is complete (the solver and every observer have run),
+        so a checkpoint of it is written when checkpointing is on, then the outputs and
+        a summary with status ``"interrupted"``; :class:`RunInterrupted` is raised. A
+        second Ctrl-C aborts at once (KeyboardInterrupt, nothing more written).
         """
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
+        (out / (CHECKPOINT_NAME + ".tmp")).unlink(missing_ok=True)  # left by a crash
         solver = self.solver
         if resume:
             state, records, fp = read_checkpoint(out)
+            meta = read_checkpoint_meta(out)
             if fp != self.fingerprint():
                 raise SetupError(
                     "--resume",
                     f"the checkpoint in {str(out)!r} was written by "
                     "a different deck; resume with the same deck and overrides",
                 )
-            if solver.done(state) and (out / "summary.json").exists():
+            finished = meta.get("finished", False) or solver.done(state)
+            if finished and (out / "summary.json").exists():
                 raise SetupError(
                     "--resume",
                     f"the run in {str(out)!r} has already finished "
-                    f"({state.step} steps); nothing to resume",
+                    f"({state.step} steps, t = {state.t:.6g} s); nothing to resume "
+                    "(start a new run with --out)",
                 )
             try:
                 solver.resume(state)
             except ValueError as exc:
                 raise SetupError("--resume", str(exc)) from None
+            if checkpoint_every is None:  # keep the interval of the original run
+                checkpoint_every = int(records.get("checkpoint_every", 0))
+            if not quiet:
+                print(f"resuming from step {state.step} (t = {state.t:.6g} s) in {out}")
         else:
+            finished = False
             state = solver.init()
             records = new_records(self.deck)
+        every = int(checkpoint_every or 0)
+        records["checkpoint_every"] = every
         ctx = RunContext(self.deck, self.model, solver, out, records, self.fingerprint())
+        ctx.stop = finished  # finished, but the outputs were not written: write them
         observers = observers_for(self.deck, self.model, isinstance(solver, HybridSolver),
-                                  checkpoint_every)  # fmt: skip
+                                  every)  # fmt: skip
         for ob in observers:
             ob.on_start(ctx, state, resume)
         n_total = solver.total_steps()
@@ -475,9 +542,10 @@ class Simulation:
         work = 0  # force evaluations: steps, or iterations of a static solver
         bar = _progress(quiet or not progress, n_total, state.step, self.deck.name)
         error = None
+        stop = _StopRequest()
         try:
-            with bar:
-                while not solver.done(state) and not ctx.stop:
+            with stop, bar:
+                while not solver.done(state) and not ctx.stop and not stop.requested:
                     before = state.bonds_broken
                     result = solver.step(state)
                     result.broken = state.bonds_broken - before
@@ -487,7 +555,8 @@ class Simulation:
                         ob.on_step(ctx, state, result)
                     if state.step % 50 == 0 or solver.done(state):
                         bar.update(state.step)
-                solver.check(state)  # the last steps are checked too
+                if not stop.requested:
+                    solver.check(state)  # the last steps are checked too
         except SimulationUnstable as exc:
             ctx.status, error = "unstable", str(exc)
             good = exc.last_good or state
@@ -496,7 +565,19 @@ class Simulation:
             self._finish(ctx, state, observers, wall, steps_done_here, work, error)
             raise
         wall = time.perf_counter() - t_start
-        return self._finish(ctx, state, observers, wall, steps_done_here, work, error)
+        if stop.requested and not (solver.done(state) or ctx.stop):
+            ctx.status = "interrupted"
+            summary = self._finish(ctx, state, observers, wall, steps_done_here, work, None)
+            checkpoint = None
+            if every:  # after _finish: the records then list the frame it wrote
+                checkpoint = write_checkpoint(
+                    out, state, ctx.records, ctx.fingerprint, meta={"finished": False}
+                )
+            raise RunInterrupted(state.step, state.t, n_total, checkpoint, summary)
+        summary = self._finish(ctx, state, observers, wall, steps_done_here, work, error)
+        if every:  # the final state, marked finished: a --resume of it is refused
+            write_checkpoint(out, state, ctx.records, ctx.fingerprint, meta={"finished": True})
+        return summary
 
     def _finish(
         self,
@@ -511,6 +592,11 @@ class Simulation:
         """final_state.npz, the results every run has, then each observer's."""
         m = self.model
         damage = ctx.damage(s)
+        extra_fields: dict[str, Any] = {}
+        try:  # the per-point random field (Weibull) a run drew, and no-fail points (inf)
+            extra_fields["critical_stretch"] = m.point_s0
+        except AttributeError:
+            pass
         np.savez(
             ctx.out / "final_state.npz",
             u=s.u,
@@ -519,6 +605,8 @@ class Simulation:
             intact=s.intact,
             t=s.t,
             step=s.step,
+            x=self.cloud.x,
+            **extra_fields,
         )
         results: dict[str, Any] = {
             "n_points": self.cloud.n_points,
@@ -560,6 +648,46 @@ class Simulation:
         )
 
 
+class RunInterrupted(KeyboardInterrupt):
+    """The run stopped at a user's request (Ctrl-C) after a complete step; the outputs
+    and a summary with status ``"interrupted"`` are written, and ``checkpoint`` is the
+    checkpoint of that state (``None`` when checkpointing was off)."""
+
+    def __init__(
+        self, step: int, t: float, total: int, checkpoint: Path | None, summary: dict
+    ) -> None:
+        self.step, self.t, self.total = step, t, total
+        self.checkpoint, self.summary = checkpoint, summary
+        super().__init__(f"interrupted after step {step} of {total} (t = {t:.6g} s)")
+
+
+class _StopRequest:
+    """While active (a context manager, main thread only), the first SIGINT only sets
+    ``requested`` so that the run loop stops between two steps; a second one raises
+    KeyboardInterrupt at once. Elsewhere SIGINT keeps its handler."""
+
+    def __init__(self) -> None:
+        self.requested = False
+        self._previous: Any = None
+        self._installed = False
+
+    def _handler(self, signum: int, frame: Any) -> None:
+        if self.requested:
+            raise KeyboardInterrupt
+        self.requested = True
+
+    def __enter__(self) -> _StopRequest:
+        if threading.current_thread() is threading.main_thread():
+            self._previous = signal.signal(signal.SIGINT, self._handler)
+            self._installed = True
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self._installed:
+            signal.signal(signal.SIGINT, self._previous)
+            self._installed = False
+
+
 class _NoBar:
     def __enter__(self) -> _NoBar:
         return self
@@ -571,16 +699,48 @@ class _NoBar:
         return None
 
 
+def _clock(seconds: float) -> str:
+    seconds = int(round(seconds))
+    h, rest = divmod(seconds, 3600)
+    return f"{h}:{rest // 60:02d}:{rest % 60:02d}"
+
+
+class _RateColumn:
+    """Steps per second and the time left, from the average rate since this process
+    started stepping (rich's own estimate uses the last few updates and jumps about when
+    the machine is shared)."""
+
+    def __init__(self, start: int) -> None:
+        self.start = start
+        self.t0 = time.perf_counter()
+
+    def text(self, completed: float, total: float | None) -> str:
+        done = completed - self.start
+        elapsed = time.perf_counter() - self.t0
+        if done <= 0 or elapsed <= 0:
+            return "-- steps/s"
+        rate = done / elapsed
+        left = f" ETA {_clock((total - completed) / rate)}" if total else ""
+        return f"{rate:.3g} steps/s{left}"
+
+
 class _RichBar:
     def __init__(self, total: int, start: int, label: str) -> None:
         from rich.progress import (
             BarColumn,
             MofNCompleteColumn,
             Progress,
+            ProgressColumn,
             TextColumn,
             TimeElapsedColumn,
-            TimeRemainingColumn,
         )
+        from rich.text import Text
+
+        rate = _RateColumn(start)
+
+        class RateColumn(ProgressColumn):
+            def render(self, task: Any) -> Text:
+                return Text(rate.text(task.completed, task.total), style="progress.remaining")
 
         self.p = Progress(
             TextColumn(f"[bold]{label}"),
@@ -588,7 +748,7 @@ class _RichBar:
             MofNCompleteColumn(),
             TextColumn("steps"),
             TimeElapsedColumn(),
-            TimeRemainingColumn(),
+            RateColumn(),
         )
         self.task = self.p.add_task(label, total=total, completed=start)
 

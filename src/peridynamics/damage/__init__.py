@@ -1,7 +1,26 @@
-"""Damage laws: critical stretch (with no-fail zones); more laws in later issues."""
+"""Damage laws: a criterion (parameters, from the deck) and the law it binds to a model's
+points and bonds (``criterion.law(x, bonds)``: trial and commit, see
+:class:`peridynamics.models.base.DamageLaw`)."""
 
-from peridynamics.damage.critical_stretch import NO_DAMAGE, CriticalStretch, family_minimum
+from peridynamics.damage.critical_stretch import (
+    NO_DAMAGE,
+    CriticalStretch,
+    CriticalStretchLaw,
+    family_minimum,
+)
 from peridynamics.damage.sed import SEDSoftening
 from peridynamics.damage.weibull import WeibullField
 
-__all__ = ["NO_DAMAGE", "CriticalStretch", "SEDSoftening", "WeibullField", "family_minimum"]
+#: the registry of damage laws: ``damage.model`` -> criterion class (``none`` is the
+#: critical-stretch law with an infinite threshold, which never proposes a bond)
+DAMAGE_LAWS = {"critical_stretch": CriticalStretch, "none": CriticalStretch}
+
+__all__ = [
+    "DAMAGE_LAWS",
+    "NO_DAMAGE",
+    "CriticalStretch",
+    "CriticalStretchLaw",
+    "SEDSoftening",
+    "WeibullField",
+    "family_minimum",
+]

@@ -57,6 +57,13 @@ class CriticalStretch:
         return s0
 
 
+    def law(
+        self, x: NDArray[np.float64], bonds: Bonds, global_ids: NDArray[np.int64] | None = None
+    ) -> CriticalStretchLaw:
+        """This criterion bound to a model's points and bonds (what the evaluator runs)."""
+        return CriticalStretchLaw(self, x, bonds, global_ids)
+
+
 def family_minimum(bonds: Bonds, s0: NDArray[np.float64]) -> NDArray[np.float64]:
     """Smallest bond threshold (s0_i + s0_j)/2 over each family, shape (n_points,)."""
     per_bond = 0.5 * (s0[bonds.bond_i] + s0[bonds.bond_j])

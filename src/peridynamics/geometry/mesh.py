@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+import io
 from collections.abc import Callable
 from pathlib import Path
 
@@ -90,10 +92,16 @@ def from_mesh(
     if isinstance(path, meshio.Mesh):
         mesh = path
     else:
+        said = io.StringIO()  # meshio may print its reason and then raise SystemExit(1)
         try:
-            mesh = meshio.read(path)
-        except (Exception, SystemExit) as exc:  # meshio may even raise SystemExit
-            raise ValueError(f"meshio cannot read {str(path)!r}: {exc}") from None
+            with contextlib.redirect_stdout(said), contextlib.redirect_stderr(said):
+                mesh = meshio.read(path)
+        except (Exception, SystemExit) as exc:
+            reason = " ".join(said.getvalue().split()).removeprefix("Error: ")
+            if not isinstance(exc, SystemExit) and str(exc):
+                reason = f"{reason}; {exc}" if reason else str(exc)
+            detail = f": {reason}" if reason else " (not a mesh format meshio recognises)"
+            raise ValueError(f"meshio cannot read {str(path)!r}{detail}") from None
     kinds = {blk.type for blk in mesh.cells}
     if dim is None:
         dim = 3 if kinds & _VOLUME_CELLS else 2

@@ -19,16 +19,22 @@ def write_checkpoint(
     state: State,
     records: dict[str, Any],
     fingerprint: str,
+    meta: dict[str, Any] | None = None,
 ) -> Path:
-    """Write ``out_dir/checkpoint.npz`` atomically (write a temporary file, then rename).
+    """Write ``out_dir/checkpoint.npz`` atomically (write a temporary file, fsync, then
+    rename; a crash leaves at most ``checkpoint.npz.tmp``, which the next run removes).
 
     Every field of the State is stored, whatever the model family declared (history
-    fields such as the SED levels included), as ``state_<name>``."""
+    fields such as the SED levels included), as ``state_<name>``. ``meta`` is a small
+    JSON mapping about the run (``{"finished": true}`` on the final checkpoint of a
+    run); :func:`read_checkpoint_meta` reads it back (``{}`` when absent)."""
     path = out_dir / CHECKPOINT_NAME
     tmp = out_dir / (CHECKPOINT_NAME + ".tmp")
     arrays: dict[str, Any] = {f"state_{k}": v for k, v in state.to_arrays().items()}
     arrays["records_json"] = np.frombuffer(json.dumps(records).encode(), dtype=np.uint8)
     arrays["fingerprint"] = np.frombuffer(fingerprint.encode(), dtype=np.uint8)
+    if meta:
+        arrays["meta_json"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
     with open(tmp, "wb") as fh:
         np.savez(fh, **arrays)
         fh.flush()
@@ -47,3 +53,12 @@ def read_checkpoint(out_dir: Path) -> tuple[State, dict[str, Any], str]:
         records = json.loads(bytes(data["records_json"]).decode())
         fingerprint = bytes(data["fingerprint"]).decode()
     return state, records, fingerprint
+
+
+def read_checkpoint_meta(out_dir: Path) -> dict[str, Any]:
+    """The ``meta`` mapping of the checkpoint in ``out_dir`` (``{}`` if it has none)."""
+    with np.load(out_dir / CHECKPOINT_NAME) as data:
+        if "meta_json" not in data.files:
+            return {}
+        meta = json.loads(bytes(data["meta_json"]).decode())
+    return meta if isinstance(meta, dict) else {}

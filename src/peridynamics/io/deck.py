@@ -7,7 +7,11 @@ with one example per section in ``docs/deck.md``.
 
 from __future__ import annotations
 
+import contextlib
+import io
 import math
+import re
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
@@ -18,6 +22,7 @@ from pydantic import (
     ConfigDict,
     Discriminator,
     Field,
+    PlainValidator,
     Tag,
     ValidationError,
     field_validator,
@@ -456,11 +461,47 @@ class FixedBC(_OnSet):
     components: list[Component] | None = Field(default=None, min_length=1)
 
 
+def _field_component(v: Any) -> float | str:
+    """One component of an initial field: a finite number, or an expression of the
+    coordinates (checked here by :class:`peridynamics.loading.conditions.FieldExpression`)."""
+    if isinstance(v, bool):
+        raise ValueError("a number or an expression of x, y, z is expected, not true/false")
+    if isinstance(v, int | float):
+        if not math.isfinite(v):
+            raise ValueError("Input should be a finite number")
+        return float(v)
+    if isinstance(v, str):
+        from peridynamics.loading.conditions import FieldExpression
+
+        FieldExpression(v)  # raises ValueError saying what is not allowed
+        return v
+    raise ValueError("a number or an expression of x, y, z (in quotes) is expected")
+
+
+#: a number, or an expression of x, y, z (t = 0) such as "-50.0 * sin(pi * x / 0.01)"
+FieldValue = Annotated[float | str, PlainValidator(_field_component)]
+
+
 class InitialVelocityBC(_OnSet):
-    """v(0) = value (m/s)."""
+    """v(0) (m/s) from value (numbers or expressions of x, y, z) or file (.npy/.csv).
+
+    ``value`` has one number or expression of x, y, z per component; ``file`` holds the
+    point values (one row per point of the set, or per point of the body)."""
 
     type: Literal["initial_velocity"]
-    value: list[Finite]
+    value: list[FieldValue] | None = None
+    file: str | None = None
+
+    @model_validator(mode="after")
+    def _one_source(self) -> InitialVelocityBC:
+        if (self.value is None) == (self.file is None):
+            raise ValueError(
+                "[value] give exactly one of value (a vector of numbers or expressions "
+                "of x, y, z) or file (a .npy or .csv file of point values)"
+            )
+        if self.file is not None and Path(self.file).suffix.lower() not in (".npy", ".csv"):
+            raise ValueError(f"[file] use a .npy or a .csv file, got {self.file!r}")
+        return self
 
 
 class BodyForceBC(_OnSet):
@@ -693,6 +734,7 @@ class Output(Strict):
     period: Period | None = None
     stress_strain: StressStrain | None = None
     plot: Literal["auto", "damage", "probes", "none"] = "auto"
+    bonds: bool = True  # write bonds.npz: the bond list (pairs, lengths, final status)
 
 
 class Contact(Strict):
@@ -879,6 +921,16 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
             _check_nonzero(errors, f"{path}.normal", normal)
         if isinstance(bc, TractionBC) and bc.normal is None and not any(bc.value):
             errors.append((f"{path}.normal", "give a normal when the traction value is zero"))
+        if isinstance(bc, InitialVelocityBC) and bc.value is not None:
+            from peridynamics.loading.conditions import FieldExpression
+
+            for k, comp in enumerate(bc.value):
+                if isinstance(comp, str):
+                    for name in sorted(FieldExpression(comp).names & {"x", "y", "z"}):
+                        if "xyz".index(name) >= dim:
+                            errors.append(
+                                (f"{path}.value.{k}", f"uses {name!r}: no such axis in {dim}-D")
+                            )
     for n, crack in enumerate(deck.precracks):
         want = 2 if dim == 2 else 3
         if dim == 1:
@@ -943,7 +995,176 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
         _check_len(errors, "output.crack_tip.origin", deck.output.crack_tip.origin, dim)
         _check_len(errors, "output.crack_tip.direction", deck.output.crack_tip.direction, dim)
         _check_nonzero(errors, "output.crack_tip.direction", deck.output.crack_tip.direction)
+    return errors + derived_errors(deck)
+
+
+# ------------------------------------------------------------ derived quantities, size
+SPEED_OF_LIGHT = 299_792_458.0  # m/s: no wave in a solid is faster
+#: a typical solid (rock, glass): the reference for saying which of E and rho is off
+_TYPICAL_E, _TYPICAL_RHO = 1.0e10, 2.5e3
+
+
+def cross_section(g: Any) -> float:
+    """The point-volume factor of a geometry: bar area (1-D), thickness (2-D), 1 (3-D)."""
+    if isinstance(g, BarGeometry):
+        return g.area
+    if isinstance(g, RectangleGeometry) or isinstance(g, MeshGeometry) and geometry_dim(g) == 2:
+        return g.thickness
+    return 1.0
+
+
+def _finite_positive(value: float) -> bool:
+    return math.isfinite(value) and value > 0
+
+
+def derived_errors(deck: Deck) -> list[tuple[str, str]]:
+    """Quantities derived from several keys that must be finite and non-zero: the wave
+    speed sqrt(E / rho) (and below the speed of light), the micromodulus and the
+    critical stretch computed from the fracture energy. Absurd values (E = 1e308,
+    rho = 1e-300, a typo in the exponent) then fail here with the key named instead of
+    giving a zero or a 1e-100 s time step."""
+    errors: list[tuple[str, str]] = []
+    m = deck.material
+    E, rho = m.youngs_modulus, m.density
+    try:
+        speed = math.sqrt(E / rho)
+    except (OverflowError, ZeroDivisionError):
+        speed = math.inf
+    off_e = abs(math.log10(E / _TYPICAL_E))
+    off_rho = abs(math.log10(rho / _TYPICAL_RHO))
+    blame = "material.youngs_modulus" if off_e >= off_rho else "material.density"
+    units = "check the units: youngs_modulus in Pa, density in kg/m^3"
+    if not _finite_positive(speed) or speed > SPEED_OF_LIGHT:
+        why = "faster than light" if speed > SPEED_OF_LIGHT else "not a finite number > 0"
+        errors.append(
+            (
+                blame,
+                f"the wave speed sqrt(E / rho) = {speed:.3g} m/s (E = {E:.6g} Pa, "
+                f"rho = {rho:.6g} kg/m^3) is {why}; {units}",
+            )
+        )
+        return errors
+    if not isinstance(m, Material):
+        return errors
+    from peridynamics.materials.bond_based import BondBasedMaterial
+
+    g, dim = deck.geometry, deck.dim
+    plane = getattr(g, "plane", None) if dim == 2 else None
+    area = cross_section(g)
+    delta = deck.discretisation.delta
+    try:
+        mat = BondBasedMaterial(E, rho, m.micromodulus_profile, m.micromodulus)
+        c0 = mat.micromodulus_constant(dim, delta, area, plane)
+    except (OverflowError, ZeroDivisionError, ValueError):
+        c0 = math.inf
+    if not _finite_positive(c0):
+        if m.micromodulus is not None:
+            key = "material.micromodulus"
+        elif max(off_e, off_rho) > 3:  # E or rho 1000 x off a typical solid
+            key = blame
+        elif deck.discretisation.horizon is not None:
+            key = "discretisation.horizon"
+        else:
+            key = "discretisation.spacing"
+        errors.append(
+            (
+                key,
+                f"the micromodulus c = {c0:.3g} N/m^6 (E = {E:.6g} Pa, horizon = "
+                f"{delta:.6g} m) is not a finite number > 0; {units}, lengths in m",
+            )
+        )
+        return errors
+    g0 = deck.damage.fracture_energy
+    if deck.damage.model != "none" and g0 is not None:
+        try:
+            s0 = mat.critical_stretch(g0, dim, delta, area, plane)
+        except (OverflowError, ZeroDivisionError, ValueError):
+            s0 = math.nan
+        if not _finite_positive(s0):
+            errors.append(
+                (
+                    "damage.fracture_energy",
+                    f"the critical stretch from G0 = {g0:.6g} J/m^2 and E = {E:.6g} Pa is "
+                    f"{s0:.3g}, not a finite number > 0; check the units (J/m^2, Pa)",
+                )
+            )
     return errors
+
+
+@dataclass(frozen=True)
+class SizeEstimate:
+    """The size of a model estimated from its deck before anything is built: ``points``
+    from the bounding volume / spacing^dim, ``bonds`` (directed) from points x the
+    volume of the horizon ball / spacing^dim, ``bytes`` of peak memory from the
+    measured cost of a run (about 150 bytes per bond and 500 per point, plus the
+    interpreter and libraries). Floats: absurd decks give 1e30, not an overflow."""
+
+    points: float
+    bonds: float
+    bytes: float
+
+    BASE_BYTES = 0.3e9
+    BYTES_PER_POINT = 500.0
+    BYTES_PER_BOND = 150.0
+
+    def describe(self) -> str:
+        """One line: points, bonds, GB."""
+        return (
+            f"about {self.points:.3g} points, {self.bonds:.3g} bonds, "
+            f"{self.bytes / 1e9:.3g} GB of memory"
+        )
+
+
+def estimate_size(deck: Deck, n_points: float | None = None) -> SizeEstimate | None:
+    """Estimate points, bonds and memory from the deck alone (``None`` for a mesh
+    geometry unless ``n_points`` is given: its points are only known once it is read)."""
+    g, d = deck.geometry, deck.discretisation
+    dx, dim = d.spacing, deck.dim
+
+    def cells(length: float) -> float:
+        return length / dx
+
+    if n_points is None:
+        if isinstance(g, BarGeometry):
+            n_points = cells(g.length) + 1.0
+        elif isinstance(g, RectangleGeometry):
+            n_points = cells(g.size[0]) * cells(g.size[1])
+        elif isinstance(g, BoxGeometry):
+            n_points = cells(g.size[0]) * cells(g.size[1]) * cells(g.size[2])
+        elif isinstance(g, CylinderGeometry):
+            n_points = math.pi * cells(g.radius) ** 2 * cells(g.length)
+        else:
+            return None
+    reach = d.delta + (0.5 * dx if d.partial_volume == "extended" else 0.0)
+    r = reach / dx
+    family = {1: 2.0 * r, 2: math.pi * r * r, 3: 4.0 / 3.0 * math.pi * r**3}[dim]
+    n = float(n_points)
+    family = min(family, max(n - 1.0, 0.0))  # a family holds at most every other point
+    bonds = n * family
+    size = SizeEstimate.BASE_BYTES + SizeEstimate.BYTES_PER_POINT * n
+    return SizeEstimate(n, bonds, size + SizeEstimate.BYTES_PER_BOND * bonds)
+
+
+def estimate_steps(deck: Deck) -> float | None:
+    """Steps of an explicit run estimated before the bonds exist (``None`` for a static
+    solver): ``steps``, or ``end_time`` / dt with dt = ``time_step`` or ``safety_factor``
+    x the continuum estimate of the stable step of the PMB model (delta / (3 c) in 2-D,
+    delta / (sqrt(12) c) in 3-D, delta / (c sqrt(2 H_m)) in 1-D, c = sqrt(E / rho))."""
+    s = deck.solver
+    if not isinstance(s, Solver):
+        return None
+    if s.steps is not None:
+        return float(s.steps)
+    assert s.end_time is not None
+    if s.time_step is not None:
+        return math.ceil(s.end_time / s.time_step)
+    m, d = deck.material, deck.discretisation
+    speed = math.sqrt(m.youngs_modulus / m.density)
+    m_ratio = max(d.delta / d.spacing, 1.0)
+    harmonic = math.log(m_ratio) + 0.5772 + 0.5 / m_ratio
+    factor = {1: math.sqrt(2.0 * harmonic), 2: 3.0, 3: math.sqrt(12.0)}[deck.dim]
+    dt = s.safety_factor * d.delta / (factor * speed)
+    return s.end_time / dt if dt > 0 else math.inf
 
 
 # -------------------------------------------------------------------- load / overrides
@@ -1016,7 +1237,11 @@ def validation_errors(exc: ValidationError) -> list[tuple[str, str]]:
         path = _format_loc(_clean_loc(tuple(e["loc"])))
         msg = e["msg"]
         if e["type"] == "extra_forbidden":
-            msg = "unknown key (check the spelling; docs/deck.md lists the allowed keys)"
+            section = path.split(".")[0] if "." in path else ""
+            msg = (
+                "unknown key (check the spelling; `peridynamics help deck"
+                f"{' ' + section if section else ''}` lists the allowed keys)"
+            )
         elif e["type"] == "missing":
             msg = "required key is missing"
         elif e["type"] in ("union_tag_not_found", "union_tag_invalid"):
@@ -1046,9 +1271,24 @@ def apply_overrides(data: dict[str, Any], overrides: list[str]) -> dict[str, Any
         if "=" not in item:
             raise DeckError([(item, "an override is key.path=value")])
         key, raw = item.split("=", 1)
-        value = yaml.safe_load(raw)
+        key = key.strip()
+        if not key:
+            raise DeckError([(item, "an override is key.path=value; the key path is empty")])
+        try:
+            value = yaml.load(raw, Loader=_UniqueKeyLoader)  # noqa: S506 - a SafeLoader
+        except yaml.YAMLError as exc:
+            problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+            raise DeckError(
+                [
+                    (
+                        key,
+                        f"--set value {raw!r} is not valid YAML ({problem}); quote the "
+                        "argument in the shell and close brackets: key=[1, 2]",
+                    )
+                ]
+            ) from None
         node: Any = data
-        parts = key.strip().split(".")
+        parts = key.split(".")
         for n, part in enumerate(parts):
             last = n == len(parts) - 1
             if isinstance(node, list):
@@ -1087,6 +1327,7 @@ def parse_deck(data: Any, base_dir: Path | None = None) -> Deck:
         base_dir is not None or deck.geometry.dim is None
     ):  # without base_dir and with dim given, the file is not looked up
         deck = _resolve_mesh(deck, base_dir or Path.cwd())
+    deck = _resolve_field_files(deck, base_dir or Path.cwd())
     errors = cross_check(deck)
     if errors:
         raise DeckError(errors)
@@ -1106,14 +1347,38 @@ def _resolve_mesh(deck: Deck, base_dir: Path) -> Deck:
         raise DeckError([("geometry.file", f"mesh file {str(path)!r} does not exist")])
     update: dict[str, Any] = {"file": str(path)}
     if g.dim is None:
+        said = io.StringIO()  # meshio prints its reason and then raises SystemExit(1)
         try:
-            kinds = {blk.type for blk in meshio.read(path).cells}
-        except (Exception, SystemExit) as exc:  # meshio may even raise SystemExit
+            with contextlib.redirect_stdout(said), contextlib.redirect_stderr(said):
+                kinds = {blk.type for blk in meshio.read(path).cells}
+        except (Exception, SystemExit) as exc:
+            reason = " ".join(said.getvalue().split()).removeprefix("Error: ")
+            if not isinstance(exc, SystemExit) and str(exc):
+                reason = f"{reason}; {exc}" if reason else str(exc)
+            detail = f": {reason}" if reason else " (not a mesh format meshio recognises)"
             raise DeckError(
-                [("geometry.file", f"meshio cannot read {str(path)!r}: {exc}")]
+                [("geometry.file", f"meshio cannot read {str(path)!r}{detail}")]
             ) from None
         update["dim"] = 3 if kinds & {"tetra", "hexahedron"} else 2
     return deck.model_copy(update={"geometry": g.model_copy(update=update)})
+
+
+def _resolve_field_files(deck: Deck, base_dir: Path) -> Deck:
+    """Make the ``file`` of initial fields absolute (relative to the deck's folder) and
+    check that it exists; its rows are checked against the node set when it is built."""
+    bcs = list(deck.boundary_conditions)
+    errors = []
+    for n, spec in enumerate(bcs):
+        if isinstance(spec, InitialVelocityBC) and spec.file is not None:
+            path = Path(spec.file)
+            if not path.is_absolute():
+                path = base_dir / path
+            if not path.is_file():
+                errors.append((f"boundary_conditions.{n}.file", f"no file {str(path)!r}"))
+            bcs[n] = spec.model_copy(update={"file": str(path)})
+    if errors:
+        raise DeckError(errors)
+    return deck.model_copy(update={"boundary_conditions": bcs})
 
 
 class _UniqueKeyLoader(yaml.SafeLoader):
@@ -1133,6 +1398,26 @@ class _UniqueKeyLoader(yaml.SafeLoader):
                 )
             seen[key] = key_node.start_mark.line
         return super().construct_mapping(node, deep=deep)
+
+
+# YAML 1.1 (PyYAML) reads a float only with a dot and a signed exponent (1.0e+6):
+# `1e6`, `1.0e6`, `6.02e23` or `.5e3` would be strings, and an integer key would refuse
+# `steps: 1e3`. Read every number in scientific notation as a float, as YAML 1.2 does.
+_UniqueKeyLoader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(
+        r"""^(?:[-+]?[0-9][0-9_]*(?:\.[0-9_]*)?[eE][-+]?[0-9]+
+            |[-+]?\.[0-9][0-9_]*[eE][-+]?[0-9]+)$""",
+        re.X,
+    ),
+    list("-+0123456789."),
+)
+
+
+def yaml_load(text: str) -> Any:
+    """Parse YAML as decks are read: safe, a repeated key is an error, and numbers in
+    scientific notation (1e6, 1.0e6, -2.5E-3) are floats."""
+    return yaml.load(text, Loader=_UniqueKeyLoader)  # noqa: S506 - a SafeLoader
 
 
 def load_deck(path: str | Path, overrides: list[str] | None = None) -> Deck:

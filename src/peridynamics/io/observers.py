@@ -496,6 +496,31 @@ class Figure(Observer):
         return [path.name]
 
 
+class BondList(Observer):
+    """``bonds.npz``: the bond list of the run, each bond once (i < j), with its
+    reference length and final status, and the reference points (see docs/output.md)."""
+
+    def __init__(self, model: Model) -> None:
+        self.model = model
+
+    def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
+        b, cloud = self.model.bonds, self.model.cloud
+        half = b.bond_i < b.bond_j
+        path = ctx.out / "bonds.npz"
+        np.savez(
+            path,
+            i=b.bond_i[half].astype(np.int32),
+            j=b.bond_j[half].astype(np.int32),
+            length_m=b.bond_length[half],
+            intact=s.intact[half],
+            initially_intact=b.bond_intact[half],
+            x_m=cloud.x,
+            volume_m3=cloud.volume,
+            horizon_m=np.float64(b.horizon),
+        )
+        return [path.name]
+
+
 def observers_for(deck: dk.Deck, model: Model, hybrid: bool, checkpoint_every: int) -> list:
     """The observers a deck asks for, in the order they run."""
     o = deck.output
@@ -522,4 +547,6 @@ def observers_for(deck: dk.Deck, model: Model, hybrid: bool, checkpoint_every: i
         obs.append(CrackBranching(o.crack_tip, model))
     obs.append(Figure(deck, model))
     obs.append(WaveOutputs(deck, model))
+    if o.bonds:
+        obs.append(BondList(model))
     return obs
