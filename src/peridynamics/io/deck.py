@@ -676,6 +676,17 @@ class CrackTip(Strict):
     damage_threshold: Annotated[float, Field(gt=0, lt=1), _Num] = 0.35
 
 
+class CrackPathSpec(Strict):
+    """A crack followed from a seed point as a polyline (connected damaged points)."""
+
+    name: str = Field(min_length=1, max_length=60, pattern=r"^[A-Za-z0-9_.-]+$")
+    seed: list[Finite]
+    direction: list[Finite] = [1.0, 0.0]
+    within: str | None = None
+    damage_threshold: Annotated[float, Field(gt=0, lt=1), _Num] = 0.35
+    initial_length: PosFloat | None = None
+
+
 class Fracture(Strict):
     """Fracture detection: the first time any point's damage reaches ``damage_threshold``
     (Lu & Wang (2016): phi0 = 0.3), checked after every step in which bonds break."""
@@ -729,6 +740,7 @@ class Output(Strict):
     ]
     probes: list[Probe] = []
     crack_tip: CrackTip | None = None
+    crack_paths: list[CrackPathSpec] = []
     fracture: Fracture | None = None
     wave_comparison: WaveComparison | None = None
     period: Period | None = None
@@ -991,6 +1003,19 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
     dup = sorted({p for p in names if names.count(p) > 1})
     if dup:
         errors.append(("output.probes", f"probe names must be unique; repeated: {dup}"))
+    names_seen: set[str] = set()
+    for n, cp in enumerate(deck.output.crack_paths):
+        path = f"output.crack_paths.{n}"
+        if dim == 1:
+            errors.append((path, "crack paths need a 2-D or 3-D model"))
+        _check_len(errors, f"{path}.seed", cp.seed, dim)
+        _check_len(errors, f"{path}.direction", cp.direction, dim)
+        _check_nonzero(errors, f"{path}.direction", cp.direction)
+        if cp.within is not None and cp.within not in sets:
+            errors.append((f"{path}.within", f"unknown node set {cp.within!r}"))
+        if cp.name in names_seen:
+            errors.append((f"{path}.name", f"crack path {cp.name!r} is given twice"))
+        names_seen.add(cp.name)
     if deck.output.crack_tip is not None:
         _check_len(errors, "output.crack_tip.origin", deck.output.crack_tip.origin, dim)
         _check_len(errors, "output.crack_tip.direction", deck.output.crack_tip.direction, dim)

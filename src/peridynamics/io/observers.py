@@ -496,6 +496,119 @@ class Figure(Observer):
         return [path.name]
 
 
+def effective_modulus_ratio(model: Model) -> float:
+    """E of the model as run over the nominal E: the median over points of the strain
+    energy density under a uniform uniaxial strain (1e-6 along x) over the continuum
+    value (PMB; 1.0 for other families). About 1 with the surface correction, 0.84-0.86
+    in 2-D without it."""
+    material = model.material
+    energy = getattr(material, "uniaxial_energy_density", None)
+    if energy is None:
+        return 1.0
+    cloud, eps = model.cloud, 1e-6
+    u = np.zeros_like(cloud.x)
+    u[:, 0] = eps * (cloud.x[:, 0] - cloud.x[:, 0].mean())
+    w = model.strain_energy_density(u, model.bonds.bond_intact)
+    w_inf = energy(eps, cloud.dim, model.bonds.horizon, cloud.cross_section, cloud.plane)
+    return float(np.median(w) / w_inf)
+
+
+class CrackPaths(Observer):
+    """Cracks followed from seed points as polylines (``output.crack_paths``): the path
+    length at every history record (for the tip speed) and, at the end, the path, its
+    length, initial angle, angles along it and tip speeds, flagged above the Rayleigh
+    speed of the model as run (:mod:`peridynamics.analysis.crack_path`)."""
+
+    def __init__(self, deck: dk.Deck, model: Model) -> None:
+        self.deck, self.model = deck, model
+        self.specs = deck.output.crack_paths
+        self._exclude: dict[float, NDArray[np.bool_]] = {}
+
+    def on_start(self, ctx: RunContext, s: State, resumed: bool) -> None:
+        r = ctx.records
+        r.setdefault("crack_path_time_s", [])
+        r.setdefault("crack_path_length_m", {c.name: [] for c in self.specs})
+        if not resumed:
+            self.record(ctx, s)
+
+    def on_step(self, ctx: RunContext, s: State, result: StepResult) -> None:
+        if ctx.stop or s.step % self.deck.output.history_every == 0 or ctx.solver.done(s):
+            self.record(ctx, s)
+
+    def paths(self, ctx: RunContext, s: State) -> dict[str, Any]:
+        """The current path of every crack, by name (cracks with the same threshold and
+        region are extracted together, so a crack never runs on into another's)."""
+        from peridynamics.analysis.crack_path import extract_crack_paths
+
+        m = self.model
+        damage = ctx.damage(s)
+        groups: dict[tuple[float, str | None], list[dk.CrackPathSpec]] = {}
+        for c in self.specs:
+            groups.setdefault((c.damage_threshold, c.within), []).append(c)
+        out: dict[str, Any] = {}
+        for (thr, within), specs in groups.items():
+            if thr not in self._exclude:  # points notches and pre-cracks damage at t = 0
+                self._exclude[thr] = m.point_damage(m.bonds.bond_intact) >= thr
+            mask = None
+            if within is not None:
+                mask = np.zeros(m.n_points, dtype=bool)
+                mask[m.cloud.node_set(within)] = True
+            lengths = [c.initial_length for c in specs]
+            found = extract_crack_paths(
+                m.cloud.x, damage, [np.asarray(c.seed, dtype=float) for c in specs],
+                m.cloud.spacing, thr, exclude=self._exclude[thr], within=mask,
+                reference_direction=[np.asarray(c.direction, dtype=float) for c in specs],
+                initial_length=lengths[0] if len(set(lengths)) == 1 else None,
+            )  # fmt: skip
+            out.update({c.name: p for c, p in zip(specs, found, strict=True)})
+        return out
+
+    def record(self, ctx: RunContext, s: State) -> None:
+        """Append the path lengths at this state."""
+        r = ctx.records
+        r["crack_path_time_s"].append(s.t)
+        for name, p in self.paths(ctx, s).items():
+            r["crack_path_length_m"][name].append(float(p.length))
+
+    def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
+        from peridynamics.analysis.crack_path import rayleigh_speed, tip_speed_from_paths
+        from peridynamics.materials.bond_based import fixed_poisson_ratio
+
+        m, r = self.model, ctx.records
+        mat = m.material
+        nu = getattr(mat, "poisson_ratio", None)
+        if nu is None:
+            nu = fixed_poisson_ratio(m.dim, m.cloud.plane if m.dim == 2 else None)
+        ratio = effective_modulus_ratio(m)
+        plane = m.cloud.plane if m.dim == 2 and m.cloud.plane else "3d"
+        c_r = rayleigh_speed(ratio * mat.youngs_modulus, nu, mat.density, plane, "exact")
+        t = np.asarray(r["crack_path_time_s"])
+        out: dict[str, Any] = {}
+        for name, p in self.paths(ctx, s).items():
+            lengths = np.asarray(r["crack_path_length_m"][name])
+            if len(t) >= 2:
+                speed, flagged = tip_speed_from_paths(t, lengths, c_r)
+            else:
+                speed, flagged = np.zeros(len(t)), np.zeros(len(t), dtype=bool)
+            out[name] = {
+                "vertices_m": p.vertices.tolist(),
+                "length_m": float(p.length),
+                "initial_angle_deg": float(p.initial_angle_deg),
+                "angles_deg": np.asarray(p.angles_deg).tolist(),
+                "tip_m": np.asarray(p.tip).tolist(),
+                "branches": len(p.branches),
+                "time_s": t.tolist(),
+                "length_history_m": lengths.tolist(),
+                "tip_speed_m_per_s": speed.tolist(),
+                "max_tip_speed_m_per_s": float(speed.max()) if len(speed) else 0.0,
+                "above_rayleigh_speed": int(np.count_nonzero(flagged)),
+            }
+        results["crack_paths"] = out
+        results["rayleigh_speed_m_per_s"] = c_r
+        results["effective_modulus_ratio"] = ratio
+        return []
+
+
 class BondList(Observer):
     """``bonds.npz``: the bond list of the run, each bond once (i < j), with its
     reference length and final status, and the reference points (see docs/output.md)."""
@@ -545,6 +658,8 @@ def observers_for(deck: dk.Deck, model: Model, hybrid: bool, checkpoint_every: i
         obs.append(BlastRecord(blasts))
     if o.crack_tip is not None:
         obs.append(CrackBranching(o.crack_tip, model))
+    if o.crack_paths:
+        obs.append(CrackPaths(deck, model))
     obs.append(Figure(deck, model))
     obs.append(WaveOutputs(deck, model))
     if o.bonds:
