@@ -76,6 +76,14 @@ def test_plate_tension_2d_static_by_adr(tmp_path) -> None:
     )
 
 
+#: Rayleigh speed of crack_branching_2d as run: bond-based PMB in plane stress (nu = 1/3,
+#: whose in-plane equations are plane strain with nu* = nu / (1 + nu) = 1/4, so
+#: c_R = 0.9194 c_s), and the deck's uncorrected model (surface_correction: false) has the
+#: interior modulus 0.855 E at delta = 4 dx (docs/deck.md): c_s = sqrt(0.855 E 3/8 / rho).
+#: 2807.5 m/s (3079.5 m/s for the nominal E with the plane-strain factor 0.9325 used before).
+_C_R_MODEL = 0.9194 * math.sqrt(0.855 * 65e9 / (2 * (1 + 1 / 3)) / 2235.0)
+
+
 def test_crack_branching_small(tmp_path) -> None:
     s = _run(
         tmp_path,
@@ -85,12 +93,20 @@ def test_crack_branching_small(tmp_path) -> None:
         "output.vtk_every=0",
     )
     r = s["results"]
-    assert r["max_damage"] > 0.9
-    assert r["crack_tip_position_m"][-1] > 0.03  # ran through most of the ligament
-    assert r["crack_branched"] is True
-    # bond-based plane stress (nu = 1/3): Rayleigh speed ~ 0.9325 sqrt(mu / rho)
-    c_r = 0.9325 * math.sqrt(65e9 / (2 * (1 + 1 / 3)) / 2235.0)
-    assert 300.0 < r["max_crack_tip_speed_m_per_s"] < c_r
+    # Measured (16 000 points, 417 steps); every number below is the same in the last
+    # digit with default threads (2), NUMBA_NUM_THREADS=1 and NUMBA_CPU_NAME=generic
+    # (another vectorisation of the fast-math force sums): damage, tip positions and
+    # speeds are discrete (broken-bond counts, grid positions over recorded times).
+    assert r["max_damage"] == 1.0
+    assert r["bonds_broken"] == pytest.approx(18412, rel=0.01)
+    # the tip (damage >= 0.35 along the ligament from x = 50 mm) ends 47.25 mm ahead
+    assert r["crack_tip_position_m"][-1] == pytest.approx(0.04725, abs=1e-3)  # 2 dx
+    assert r["crack_branched"] is True and r["crack_branches"] == 2
+    assert r["branching_x_m"] == pytest.approx(0.07, abs=2e-3)
+    # peak tip speed 1509.67 m/s. Tolerances leave room for a bond decision that flips
+    # on other hardware (1 % of the broken bonds, 2 dx, 5 % of the speed)
+    assert r["max_crack_tip_speed_m_per_s"] == pytest.approx(1509.6650134417625, rel=0.05)
+    assert r["max_crack_tip_speed_m_per_s"] < _C_R_MODEL
 
 
 @pytest.mark.slow
@@ -100,8 +116,7 @@ def test_crack_branching_paper_scale(tmp_path) -> None:
     assert r["n_points"] == 64000
     assert r["crack_branched"] is True
     assert 0.055 < r["branching_x_m"] < 0.08
-    c_r = 0.9325 * math.sqrt(65e9 / (2 * (1 + 1 / 3)) / 2235.0)
-    assert r["max_crack_tip_speed_m_per_s"] < c_r
+    assert r["max_crack_tip_speed_m_per_s"] < _C_R_MODEL
 
 
 _DECKS = sorted(p for p in EXAMPLES.rglob("*.yaml"))

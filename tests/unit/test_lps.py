@@ -295,8 +295,8 @@ def test_force_is_minus_energy_gradient(dim, plane, influence, broken, serial_nu
 
 
 def test_surface_correction_factors_keep_the_model_conservative(serial_numba):
-    """With surface_correction=True the stored symmetric bond factors scale omega: the
-    force stays the gradient of the energy and the tangent symmetric."""
+    """With surface_correction=True the per-point influence calibration changes the
+    forces, and the force stays the gradient of the energy and the tangent symmetric."""
     cloud = irregular_cloud(2, 51)
     bonds = build_bonds(cloud, 3.015 * DX)
     g = np.random.default_rng(52).uniform(0.8, 1.3, cloud.n_points)
@@ -304,9 +304,6 @@ def test_surface_correction_factors_keep_the_model_conservative(serial_numba):
     mat = LPSMaterial(E, 0.3, RHO)
     plain = mat.force_model(cloud, bonds)
     model = mat.force_model(cloud, bonds, surface_correction=True)
-    np.testing.assert_allclose(
-        model.omega_volume, plain.omega_volume * bonds.bond_correction, rtol=1e-15
-    )
     st = reference_state(model)
     st.u[:] = np.random.default_rng(53).normal(0, 0.02 * DX, st.u.shape)
     f = evaluate(model, st)

@@ -2,6 +2,13 @@
 
 from peridynamics.analysis.attenuation import corrected_strength, fit_attenuation
 from peridynamics.analysis.crack import branching, count_branches, crack_tip, tip_speed
+from peridynamics.analysis.crack_path import (
+    CrackPath,
+    extract_crack_path,
+    extract_crack_paths,
+    rayleigh_speed,
+    tip_speed_from_paths,
+)
 from peridynamics.analysis.dispersion import (
     Advice,
     Dispersion,
@@ -22,6 +29,11 @@ from peridynamics.analysis.dispersion import (
 
 __all__ = [
     "Advice",
+    "CrackPath",
+    "extract_crack_path",
+    "extract_crack_paths",
+    "rayleigh_speed",
+    "tip_speed_from_paths",
     "Dispersion",
     "advise_1d",
     "bloch_dispersion",

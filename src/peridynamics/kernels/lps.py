@@ -14,18 +14,24 @@ Notation (per directed bond k = (i, j), all bonds of the family of i):
   ``L = |xi|`` (``length``);
 * extension ``e = r - L``, evaluated as ``eta . (2 xi + eta) / (r + L)`` (the same value
   without the cancellation of ``r - L`` at small strain);
-* ``wv_k = omega_k beta_k V_j`` (influence function times partial volume, m^3);
+* ``wv_k = omega_ik beta_k V_j`` (influence function of point i times partial volume,
+  m^3); ``wvf_k = omega_jk beta_k V_j`` the same bond weighted by the influence
+  function of the far point j. Without the surface correction omega depends on |xi|
+  only and ``wvf = wv``; the correction of :mod:`peridynamics.models.lps` makes omega
+  a per-point function of the bond direction, so the two differ;
 * ``mu_k`` (``intact``) is 1 for an intact bond, 0 for a broken one.
 
-Equations (Silling et al. 2007, eqs. 82-92 for 3-D; Le, Silling & Bobaru 2014 for 2-D;
+Equations (Silling et al. 2007, eqs. 82-92 for 3-D; Le, Chan & Schwartz 2014 for 2-D;
 the coefficients are documented in :mod:`peridynamics.materials.lps`):
 
 * weighted volume   m_i = sum_k mu_k wv_k L_k^2                        (m^5)
 * dilatation        theta_i = ts_i sum_k mu_k wv_k L_k e_k,  ts_i = tf / m_i
-* scalar force state t_ik = omega_k (cd_i theta_i L_k + a_i e_k),
+* scalar force state t_ik = omega_ik (cd_i theta_i L_k + a_i e_k),
   cd_i = k_theta tf / m_i,  a_i = alpha / m_i                         (N/m^6)
 * force density     f_i = sum_k mu_k beta_k V_j (t_ik + t_jk) y_k / r_k  (N/m^3)
-  (t_jk: the force state of point j on the same bond, read with theta_j, m_j)
+  (t_jk: the force state of point j on the same bond, read with theta_j, m_j and
+  omega_jk), i.e. ``f_i = sum_k mu_k ((wv_k cd_i theta_i + wvf_k cd_j theta_j) L_k +
+  (wv_k a_i + wvf_k a_j) e_k) y_k / r_k``
 * energy density    W_i = k_theta theta_i^2 / 2 + (a_i / 2) sum_k mu_k wv_k e_k^2 (J/m^3)
 
 With every bond of the family intact, W_i equals the classical LPS energy
@@ -138,13 +144,16 @@ def dilatation_3d(x, u, offsets, bond_j, length, wv, intact, theta_scale, theta)
 
 # -- force ------------------------------------------------------------------------------
 @_hot
-def force_2d(x, u, offsets, bond_j, length, wv, intact, theta, cd, a, force, smax_out):
+def force_2d(x, u, offsets, bond_j, length, wv, wvf, intact, theta, cd, a, force, smax_out):
     """2-D LPS force density (N/m^3) and largest tensile stretch; pure (never breaks).
 
     Parameters
     ----------
     x, u : (n_all, 2) reference positions and displacements (m).
     offsets : (n + 1,) CSR offsets; bond_j, length (m), wv (m^3), intact : (n_bonds,).
+    wvf : (n_bonds,) the far end's weight of the same bond, ``wvf_k = wv_k' V_j / V_i``
+        with k' = (j, i) (m^3); ``wv`` itself when the weights are symmetric
+        (``V_i wv_k = V_j wv_k'``), i.e. without the surface correction.
     theta : (n_all,) dilatation of every point (the pre-pass, ghosts included).
     cd : (n_all,) dilatation coefficient k_theta tf / m_i (N/m^7).
     a : (n_all,) extension coefficient alpha / m_i (N/m^7).
@@ -163,7 +172,13 @@ def force_2d(x, u, offsets, bond_j, length, wv, intact, theta, cd, a, force, sma
             j = bond_j[k]
             y0, y1, r, e = _bond_2d(x, u, i, j, length[k])
             m = intact[k]
-            g = m * wv[k] * ((ci + cd[j] * theta[j]) * length[k] + (ai + a[j]) * e) / r
+            w_i = wv[k]
+            w_j = wvf[k]
+            g = (
+                m
+                * ((w_i * ci + w_j * cd[j] * theta[j]) * length[k] + (w_i * ai + w_j * a[j]) * e)
+                / r
+            )
             f0 += g * y0
             f1 += g * y1
             smax = max(smax, m * e / length[k])
@@ -173,7 +188,7 @@ def force_2d(x, u, offsets, bond_j, length, wv, intact, theta, cd, a, force, sma
 
 
 @_hot
-def force_3d(x, u, offsets, bond_j, length, wv, intact, theta, cd, a, force, smax_out):
+def force_3d(x, u, offsets, bond_j, length, wv, wvf, intact, theta, cd, a, force, smax_out):
     """3-D LPS force density (N/m^3); arguments as :func:`force_2d` with dim 3."""
     n = offsets.shape[0] - 1
     for i in prange(n):
@@ -187,7 +202,13 @@ def force_3d(x, u, offsets, bond_j, length, wv, intact, theta, cd, a, force, sma
             j = bond_j[k]
             y0, y1, y2, r, e = _bond_3d(x, u, i, j, length[k])
             m = intact[k]
-            g = m * wv[k] * ((ci + cd[j] * theta[j]) * length[k] + (ai + a[j]) * e) / r
+            w_i = wv[k]
+            w_j = wvf[k]
+            g = (
+                m
+                * ((w_i * ci + w_j * cd[j] * theta[j]) * length[k] + (w_i * ai + w_j * a[j]) * e)
+                / r
+            )
             f0 += g * y0
             f1 += g * y1
             f2 += g * y2

@@ -59,14 +59,18 @@ def force(
     cd: F,
     a: F,
     n_points: int,
+    wv_far: F | None = None,
 ) -> tuple[F, F]:
     """LPS force density (n_points, dim) (N/m^3) and largest tensile stretch (n_points,)
-    of an intact bond (0 when none is stretched)."""
+    of an intact bond (0 when none is stretched). ``wv_far`` (n_bonds,): the bond
+    weighted by the far point's influence function (``wvf`` of the kernels); ``wv``
+    when omitted (symmetric weights)."""
     y, r, e = bond_extension(x, u, bond_i, bond_j, length)
-    t = (cd[bond_i] * theta[bond_i] + cd[bond_j] * theta[bond_j]) * length + (
-        a[bond_i] + a[bond_j]
+    wvf = wv if wv_far is None else wv_far
+    t = (wv * cd[bond_i] * theta[bond_i] + wvf * cd[bond_j] * theta[bond_j]) * length + (
+        wv * a[bond_i] + wvf * a[bond_j]
     ) * e
-    g = intact * wv * t / r
+    g = intact * t / r
     out = np.empty((n_points, x.shape[1]))
     for c in range(x.shape[1]):  # loop over the (<= 3) components only
         out[:, c] = np.bincount(bond_i, g * y[:, c], minlength=n_points)

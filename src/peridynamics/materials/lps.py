@@ -10,8 +10,9 @@ deviatoric extension ``e^d = e - theta |xi| / 3``,
     W = K theta^2 / 2 + (15 mu / 2m) sum omega (e^d)^2 V,
     t = (3 K theta / m) omega |xi| + (15 mu / m) omega e^d.
 
-2-D: Le, Silling & Bobaru (2014), "A two-dimensional ordinary, state-based peridynamic
-model for linearly elastic solids", IJNME 98, 547-561 (plane strain and plane stress).
+2-D: Le, Chan & Schwartz (2014), "A two-dimensional ordinary, state-based peridynamic
+model for linearly elastic solids", Int. J. Numer. Meth. Engng 98, 547-561 (plane
+strain and plane stress).
 The same derivation in d dimensions (the d-dimensional dilatation ``theta_d = (d/m) sum
 omega |xi| e V`` is tr(eps) for a homogeneous strain; the angular average
 ``<(n.A.n)^2> = 2 A:A / (d (d + 2))`` for a traceless A fixes the deviatoric modulus)
@@ -271,7 +272,9 @@ class LPSMaterial:
     def force_model(
         self, cloud: PointCloud, bonds: Bonds, surface_correction: bool = False
     ) -> LPSForceModel:
-        """The :class:`~peridynamics.models.lps.LPSForceModel` of this material."""
+        """The :class:`~peridynamics.models.lps.LPSForceModel` of this material;
+        ``surface_correction=True`` calibrates the influence function of every point
+        (:func:`~peridynamics.models.lps.calibrate_influence`)."""
         from peridynamics.models.lps import LPSForceModel
 
         return LPSForceModel(cloud, bonds, self, surface_correction=surface_correction)
