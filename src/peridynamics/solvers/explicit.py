@@ -119,7 +119,8 @@ class ExplicitSolver:
                 )
             self.dt = float(self.time_step)
         # per-component inverse mass of each degree-of-freedom group (kg/m^3)^-1
-        self._inv_mass = np.repeat((1.0 / self.model.density)[:, None], self.model.dim, axis=1)
+        # (n, 1): every component of a point has the same mass, read once per point
+        self._inv_mass = np.ascontiguousarray((1.0 / self.model.density)[:, None])
         self._blowup_limit = self.blowup_factor * self.model.cloud.size
         self.last_good: State | None = None
         if self.steps is not None and self.end_time is not None:
@@ -175,7 +176,7 @@ class ExplicitSolver:
         """Compile (or load from cache) the step kernels on tiny arrays of the same types,
         so that timings of the run measure stepping, not JIT compilation."""
         u, v, f, b = (np.zeros((1, d)) for _ in range(4))
-        inv = np.ones((1, d))
+        inv = np.ones((1, 1))  # the same array layout as in the run
         if self.integrator == "velocity_verlet":
             integrators.kick_drift(u, v, f, b, inv, 0.0)
             integrators.kick(v, f, b, inv, 0.0)
