@@ -90,7 +90,7 @@ def test_static_fracture_load_displacement_curve(tmp_path) -> None:
     Measured at dx = 1 mm (450 points, 29 890 iterations, 1.5 s on AMD EPYC 2 cores):
     62.48 N per load step, peak 312.53 N at step 6 (0.833 of the linear 375 N),
     9.49 N at step 7, below 0.006 N from step 8 on; 410 directed bonds broken."""
-    s = _run(tmp_path, "static_fracture", "discretisation.spacing=1e-3",
+    s = _run(tmp_path, "static_fracture",
              deck="notched_plate_adr.yaml")  # fmt: skip
     r = s["results"]
     assert r["converged"] is True and r["not_converged_load_steps"] == []
