@@ -95,8 +95,9 @@ def test_3d_box_with_rectangle_crack_runs(tmp_path) -> None:
     # the pre-crack and the pull damage the box. Measured; spread over default threads
     # (2), NUMBA_NUM_THREADS=1 and NUMBA_CPU_NAME=generic (another vectorisation of the
     # fast-math force sums) per line; tolerances rel 1e-6 before fracture, 1 % after it
-    # (room for a bond decision that flips on other hardware): 53 124 of 84 288 directed bonds broken and 800 of 1000 points with
-    # damage >= 0.3, identical in all three runs; max damage 0.96912 (spread 0)
+    # (room for a bond decision that flips on other hardware): 53 124 of 84 288 directed
+    # bonds broken and 800 of 1000 points with damage >= 0.3, identical in all three
+    # runs; max damage 0.96912 (spread 0)
     assert r["bonds_broken"] == pytest.approx(53124, rel=0.01)
     assert r["damaged_area_fraction"] == pytest.approx(0.8, abs=0.01)
     assert r["max_damage"] == pytest.approx(0.969123274887512, rel=0.01)

@@ -107,7 +107,9 @@ def test_flaw_analysis_script_small(tmp_path) -> None:
     assert first["max_distance_to_nearest_tip_m"] == pytest.approx(1.0232702477840463e-3, abs=5e-4)
     # initiation at every tip (flaw 0 lower, upper; flaw 1 lower, upper) and the first
     # mean crack direction (degrees from +x)
-    assert [t["initiation_step"] for t in res["tips"]] == pytest.approx([440, 480, 420, 400], abs=20)
+    assert [t["initiation_step"] for t in res["tips"]] == pytest.approx(
+        [440, 480, 420, 400], abs=20
+    )
     assert [t["direction_step"] for t in res["tips"]] == pytest.approx([520, 500, 460, 460], abs=20)
     assert [t["direction_deg"] for t in res["tips"]] == pytest.approx(
         [-106.98393569880774, 97.3881781721371, -145.89145843982968, 59.58742161683445], abs=5.0

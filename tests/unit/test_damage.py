@@ -82,3 +82,31 @@ def test_critical_stretch_validation():
             CriticalStretch(bad)
     s0 = CriticalStretch(0.01, no_fail=np.array([1, 3])).point_threshold(5)
     assert np.array_equal(s0, [0.01, np.inf, 0.01, np.inf, 0.01])
+
+
+@pytest.mark.parametrize("dim", [1, 2, 3])
+def test_fused_explicit_path_equals_trial_commit_force(dim) -> None:
+    """The explicit fast path (PMB force_and_break) gives the same bits as the damage
+    law's trial, its commit and the pure force pass in turn."""
+    rng = np.random.default_rng(7)
+    cloud = body(dim)
+    b = build_bonds(cloud, 3.015 * DX)
+    model = Model(cloud, b, BondBasedMaterial(70e9, 2700.0), damage=CriticalStretch(0.05))
+    fused, split = model.new_state(), model.new_state()
+    u = rng.normal(0.0, 0.15 * DX, cloud.x.shape)
+    fused.u[:] = u
+    split.u[:] = u
+    broken = model.evaluate(fused, commit=True)
+    proposed = model.damage_law.trial(split)
+    assert np.array_equal(split.intact, b.bond_intact)  # a trial changes nothing
+    assert model.damage_law.commit(split) == proposed == broken > 0
+    model.force_model.force(split)
+    assert np.array_equal(fused.intact, split.intact)
+    assert np.array_equal(fused.force, split.force)
+    assert np.array_equal(fused.max_stretch, split.max_stretch)
+    assert fused.bonds_broken == split.bonds_broken == broken
+    # the pure evaluation breaks nothing
+    again = model.new_state()
+    again.u[:] = u
+    model.evaluate(again, commit=False)
+    assert np.array_equal(again.intact, b.bond_intact) and again.bonds_broken == 0

@@ -56,7 +56,6 @@ class CriticalStretch:
             s0[np.asarray(self.no_fail)] = np.inf
         return s0
 
-
     def law(
         self, x: NDArray[np.float64], bonds: Bonds, global_ids: NDArray[np.int64] | None = None
     ) -> CriticalStretchLaw:

@@ -91,24 +91,30 @@ def _family_3d(i, x, u, offsets, bond_j, inv_length, stiffness, intact):
 
 
 @njit(inline="always")
+def _reaches_threshold(i, k, x, u, bond_j, inv_length, s0):
+    """True when intact-or-not bond ``k`` of point ``i`` has a stretch of at least
+    (s0_i + s0_j) / 2. The bond vector is a sum of differences, exactly antisymmetric,
+    so point ``j`` takes the same decision for its copy of the bond."""
+    d = x.shape[1]
+    j = bond_j[k]
+    r2 = 0.0
+    for c in range(d):
+        e = (x[j, c] - x[i, c]) + (u[j, c] - u[i, c])
+        r2 += e * e
+    s = np.sqrt(r2) * inv_length[k] - 1.0
+    return s >= 0.5 * (s0[i] + s0[j])
+
+
+@njit(inline="always")
 def _break_family(i, x, u, offsets, bond_j, inv_length, intact, s0):
     """Break the bonds of point ``i`` whose stretch reaches (s0_i + s0_j) / 2.
 
     A scalar loop (never vectorised) so that point ``i`` and point ``j`` take the same
     decision for the same bond. Returns the number of bonds broken.
     """
-    d = x.shape[1]
     broken = 0
     for k in range(offsets[i], offsets[i + 1]):
-        if not intact[k]:
-            continue
-        j = bond_j[k]
-        r2 = 0.0
-        for c in range(d):
-            e = (x[j, c] - x[i, c]) + (u[j, c] - u[i, c])
-            r2 += e * e
-        s = np.sqrt(r2) * inv_length[k] - 1.0
-        if s >= 0.5 * (s0[i] + s0[j]):
+        if intact[k] and _reaches_threshold(i, k, x, u, bond_j, inv_length, s0):
             intact[k] = 0
             broken += 1
     return broken
@@ -337,20 +343,11 @@ def break_trial(x, u, offsets, bond_j, inv_length, intact, s0, proposed):
     directed bonds proposed. The stretch is computed as in the force kernels'
     breaking pass, so both directions of a bond get the same decision."""
     n = offsets.shape[0] - 1
-    d = x.shape[1]
     count = 0
     for i in prange(n):
         for k in range(offsets[i], offsets[i + 1]):
             proposed[k] = 0
-            if not intact[k]:
-                continue
-            j = bond_j[k]
-            r2 = 0.0
-            for c in range(d):
-                e = (x[j, c] - x[i, c]) + (u[j, c] - u[i, c])
-                r2 += e * e
-            s = np.sqrt(r2) * inv_length[k] - 1.0
-            if s >= 0.5 * (s0[i] + s0[j]):
+            if intact[k] and _reaches_threshold(i, k, x, u, bond_j, inv_length, s0):
                 proposed[k] = 1
                 count += 1
     return count
