@@ -63,7 +63,9 @@ class Model:
         Force-like loads (body forces, tractions spread over a layer).
     surface_correction : bool
         Apply the force model's surface correction (PMB: the energy method of Madenci &
-        Oterkus 2014).
+        Oterkus 2014; LPS: the per-point influence calibration). Off by default here, as
+        a low-level constructor states everything; decks default to ``true``
+        (``discretisation.surface_correction``), which gives the nominal E.
     viscosity : BondViscosity, optional
         Viscous bond forces (PD wave dispersion (n.d.), eqs 52-56) from the velocity
         of the State; ``None`` or both coefficients 0 is plain PD.
