@@ -100,7 +100,7 @@ class Model:
         self.force_model = self.material.force_model(c, self.bonds, self.surface_correction)
         self.bonds = self.force_model.bonds  # with the surface-correction factors
         self.damage_law = self.damage.law(c.x, self.bonds)
-        self.inv_length = 1.0 / self.bonds.bond_length
+        self.inv_length = self.bonds.inv_length
         self.density = np.full(c.n_points, self.material.density)
         if not (np.isfinite(self.damping) and self.damping >= 0):
             raise ValueError(f"damping must be >= 0 (1/s), got {self.damping}")
@@ -179,13 +179,18 @@ class Model:
             intact=self.bonds.bond_intact.copy(),
             max_stretch=np.zeros(n),
         )
-        for spec in self.force_model.state_fields():
-            rows = n if spec.where == "point" else self.bonds.n_bonds
-            shape = (rows, spec.components) if spec.components else (rows,)
-            s[spec.name] = np.zeros(shape, dtype=spec.dtype)
+        self._add_force_model_fields(s)
         if self._sed is not None:
             s["sed_level"] = np.zeros(n, dtype=np.int64)
         return s
+
+    def _add_force_model_fields(self, s: State) -> None:
+        """Allocate the fields the force model declares, sized from ``s.u`` (points) and
+        ``s.intact`` (bonds)."""
+        for spec in self.force_model.state_fields():
+            rows = len(s.u) if spec.where == "point" else len(s.intact)
+            shape = (rows, spec.components) if spec.components else (rows,)
+            s[spec.name] = np.zeros(shape, dtype=spec.dtype)
 
     def on_restore(self, state: State) -> None:
         """Rebuild what follows from history fields after a checkpoint was read."""
@@ -274,9 +279,7 @@ class Model:
             intact=intact,
             max_stretch=max_stretch,
         )
-        for spec in self.force_model.state_fields():
-            n = len(u) if spec.where == "point" else len(intact)
-            s[spec.name] = np.zeros((n, spec.components) if spec.components else n)
+        self._add_force_model_fields(s)
         return self.evaluate(s, commit=True)
 
     def force_of(self, u: NDArray, intact: NDArray[np.uint8] | None = None) -> NDArray:
@@ -323,9 +326,7 @@ class Model:
     def strain_energy_density(self, u: NDArray, intact: NDArray[np.uint8]) -> NDArray:
         """W_i (J/m^3), shape (n,), of the force model (pre-pass included)."""
         s = State(u=u, intact=intact)
-        for spec in self.force_model.state_fields():
-            n = len(u) if spec.where == "point" else len(intact)
-            s[spec.name] = np.zeros((n, spec.components) if spec.components else n)
+        self._add_force_model_fields(s)
         self.force_model.prepass(s)
         return self.force_model.energy_density(s)
 

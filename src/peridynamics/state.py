@@ -110,6 +110,14 @@ class State:
         other.t, other.step = self.t, self.step
         other.bonds_broken, other.phase = self.bonds_broken, self.phase
 
+    def snapshot(self, keep: State | None) -> State:
+        """A copy of this state in ``keep``'s arrays when it has the same layout (no
+        allocation in a time loop), else a new copy; returns the snapshot."""
+        if keep is None or not self.same_layout(keep):
+            return self.copy()
+        self.copy_into(keep)
+        return keep
+
     def same_layout(self, other: State) -> bool:
         """True when ``other`` holds the same field names with the same shapes."""
         return self.fields.keys() == other.fields.keys() and all(

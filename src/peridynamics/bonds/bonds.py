@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from functools import cached_property
 
 import numpy as np
 from numpy.typing import NDArray
@@ -55,6 +56,12 @@ class Bonds:
     bond_intact: NDArray[np.uint8]
     horizon: float
     partial_volume: str
+
+    @cached_property
+    def inv_length(self) -> NDArray[np.float64]:
+        """``1 / |xi|`` (1/m), shape (n_bonds,): computed once and shared by the force
+        model, the evaluator and the damage law."""
+        return 1.0 / self.bond_length
 
     @property
     def n_bonds(self) -> int:

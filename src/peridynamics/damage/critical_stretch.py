@@ -104,7 +104,7 @@ class CriticalStretchLaw(DamageLaw):
         n = len(bonds.offsets) - 1
         self.point_s0 = criterion.point_threshold(n, global_ids)
         self.family_s0_min = family_minimum(bonds, self.point_s0)
-        self._inv_length = 1.0 / bonds.bond_length
+        self._inv_length = bonds.inv_length
         self._proposed = np.zeros(bonds.n_bonds, dtype=np.uint8)
         self._count = 0
 

@@ -47,6 +47,18 @@ class RunContext:
     stop: bool = False
     status: str = "completed"
     damage_cache: dict[int, NDArray] = field(default_factory=dict)
+    initial_damage_cache: NDArray | None = None
+
+    def history_due(self, s: State) -> bool:
+        """True when histories are recorded after this step: every
+        ``output.history_every`` steps, at the last step and when the run stops."""
+        return self.stop or s.step % self.deck.output.history_every == 0 or self.solver.done(s)
+
+    def initial_damage(self) -> NDArray:
+        """Point damage of the bonds as built (pre-cracks), computed once."""
+        if self.initial_damage_cache is None:
+            self.initial_damage_cache = self.model.point_damage(self.model.bonds.bond_intact)
+        return self.initial_damage_cache
 
     def damage(self, s: State) -> NDArray:
         """Point damage of ``s`` (computed once per step for all observers)."""
@@ -105,7 +117,6 @@ class History(Observer):
 
     def __init__(self, deck: dk.Deck, model: Model) -> None:
         self.deck, self.model = deck, model
-        self._pre_damaged: NDArray[np.bool_] | None = None
         ct = deck.output.crack_tip
         self._tip = (
             None
@@ -122,7 +133,7 @@ class History(Observer):
             self.record(ctx, s)
 
     def on_step(self, ctx: RunContext, s: State, result: StepResult) -> None:
-        if ctx.stop or s.step % self.deck.output.history_every == 0 or ctx.solver.done(s):
+        if ctx.history_due(s):
             self.record(ctx, s)
 
     def probe_value(self, probe: dk.Probe, s: State, damage: NDArray) -> float:
@@ -174,10 +185,9 @@ class History(Observer):
             )
         if self._tip is not None:
             origin, direction, thr = self._tip
-            if self._pre_damaged is None:  # points a pre-crack damages at t = 0
-                self._pre_damaged = m.point_damage(m.bonds.bond_intact) >= thr
+            pre_damaged = ctx.initial_damage() >= thr  # points a pre-crack damages at t = 0
             r["crack_tip_m"].append(
-                crack_tip(m.cloud.x, damage, origin, direction, thr, self._pre_damaged)
+                crack_tip(m.cloud.x, damage, origin, direction, thr, pre_damaged)
             )
 
     def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
@@ -522,7 +532,7 @@ class CrackPaths(Observer):
     def __init__(self, deck: dk.Deck, model: Model) -> None:
         self.deck, self.model = deck, model
         self.specs = deck.output.crack_paths
-        self._exclude: dict[float, NDArray[np.bool_]] = {}
+        self._last: tuple[int, dict[str, Any]] | None = None  # (step, paths) of the last record
 
     def on_start(self, ctx: RunContext, s: State, resumed: bool) -> None:
         r = ctx.records
@@ -532,7 +542,7 @@ class CrackPaths(Observer):
             self.record(ctx, s)
 
     def on_step(self, ctx: RunContext, s: State, result: StepResult) -> None:
-        if ctx.stop or s.step % self.deck.output.history_every == 0 or ctx.solver.done(s):
+        if ctx.history_due(s):
             self.record(ctx, s)
 
     def paths(self, ctx: RunContext, s: State) -> dict[str, Any]:
@@ -547,8 +557,7 @@ class CrackPaths(Observer):
             groups.setdefault((c.damage_threshold, c.within), []).append(c)
         out: dict[str, Any] = {}
         for (thr, within), specs in groups.items():
-            if thr not in self._exclude:  # points notches and pre-cracks damage at t = 0
-                self._exclude[thr] = m.point_damage(m.bonds.bond_intact) >= thr
+            exclude = ctx.initial_damage() >= thr  # points notches and pre-cracks damage
             mask = None
             if within is not None:
                 mask = np.zeros(m.n_points, dtype=bool)
@@ -556,7 +565,7 @@ class CrackPaths(Observer):
             lengths = [c.initial_length for c in specs]
             found = extract_crack_paths(
                 m.cloud.x, damage, [np.asarray(c.seed, dtype=float) for c in specs],
-                m.cloud.spacing, thr, exclude=self._exclude[thr], within=mask,
+                m.cloud.spacing, thr, exclude=exclude, within=mask,
                 reference_direction=[np.asarray(c.direction, dtype=float) for c in specs],
                 initial_length=lengths[0] if len(set(lengths)) == 1 else None,
             )  # fmt: skip
@@ -566,8 +575,10 @@ class CrackPaths(Observer):
     def record(self, ctx: RunContext, s: State) -> None:
         """Append the path lengths at this state."""
         r = ctx.records
+        paths = self.paths(ctx, s)
+        self._last = (s.step, paths)
         r["crack_path_time_s"].append(s.t)
-        for name, p in self.paths(ctx, s).items():
+        for name, p in paths.items():
             r["crack_path_length_m"][name].append(float(p.length))
 
     def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
@@ -584,7 +595,9 @@ class CrackPaths(Observer):
         c_r = rayleigh_speed(ratio * mat.youngs_modulus, nu, mat.density, plane, "exact")
         t = np.asarray(r["crack_path_time_s"])
         out: dict[str, Any] = {}
-        for name, p in self.paths(ctx, s).items():
+        # the last record is usually of this very state: reuse its paths
+        final = self._last[1] if self._last and self._last[0] == s.step else self.paths(ctx, s)
+        for name, p in final.items():
             lengths = np.asarray(r["crack_path_length_m"][name])
             if len(t) >= 2:
                 speed, flagged = tip_speed_from_paths(t, lengths, c_r)

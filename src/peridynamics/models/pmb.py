@@ -69,7 +69,7 @@ class PMBForceModel(ForceModel):
             bonds = bonds.with_correction(factors)
         self.bonds = bonds
         self.stiffness = material.bond_stiffness(cloud, bonds)
-        self.inv_length = 1.0 / bonds.bond_length
+        self.inv_length = bonds.inv_length
         self._kernel = bond_based.FORCE_KERNELS[cloud.dim]
         n = len(bonds.offsets) - 1
         self._never = np.full(n, np.inf)  # no threshold is ever reached: the pure pass

@@ -514,11 +514,7 @@ class ADRSolver:
                 coordinates=coords,
                 last_good=self.last_good,
             )
-        good = self.last_good
-        if good is None or not s.same_layout(good):
-            self.last_good = s.copy()
-        else:
-            s.copy_into(good)
+        self.last_good = s.snapshot(self.last_good)
 
     def describe(self) -> str:
         """Load steps and tolerance."""

@@ -275,11 +275,7 @@ class ExplicitSolver:
                 coordinates=coords,
                 last_good=self.last_good,
             )
-        good = self.last_good
-        if good is None or not s.same_layout(good):
-            self.last_good = s.copy()
-        else:  # copy into the kept arrays: no allocation in the time loop
-            s.copy_into(good)
+        self.last_good = s.snapshot(self.last_good)
 
     def irun(self, s: State, n_steps: int) -> Iterator[State]:
         """Yield the state after each of ``n_steps`` steps."""
