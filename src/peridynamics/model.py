@@ -179,10 +179,20 @@ class Model:
             intact=self.bonds.bond_intact.copy(),
             max_stretch=np.zeros(n),
         )
+        for dof in self.force_model.dofs()[1:]:  # rotations of a micropolar model
+            for name in (dof.value, dof.rate, dof.force, dof.body):
+                s[name] = np.zeros((n, dof.components))
         self._add_force_model_fields(s)
         if self._sed is not None:
             s["sed_level"] = np.zeros(n, dtype=np.int64)
         return s
+
+    def inertia(self, k: int) -> NDArray[np.float64]:
+        """Mass density of dof group k of the force model (kg/m^3 for displacements,
+        kg/m for rotations: rho times the model's inertia factor), shape (n,)."""
+        if k == 0:
+            return self.density
+        return self.density * self.force_model.dof_inertia(k)
 
     def _add_force_model_fields(self, s: State) -> None:
         """Allocate the fields the force model declares, sized from ``s.u`` (points) and
@@ -337,6 +347,21 @@ class Model:
         local = float(np.sum(self.strain_energy_density(u, intact) * self.cloud.volume))
         return self.comm.sum(local)
 
+    def state_energies(self, s: State) -> tuple[float, float]:
+        """(kinetic, strain) energy (J) of a State, rotations included, over ranks."""
+        fm = self.force_model
+        w = fm.energy_density(s) if "theta" in s else None
+        if w is None:
+            strain = self.strain_energy(s.u, s.intact)
+        else:
+            strain = self.comm.sum(float(np.sum(w * self.cloud.volume)))
+        kinetic = self.kinetic_energy(s.v)
+        for k, dof in enumerate(fm.dofs()[1:], start=1):
+            rate = s[dof.rate]
+            local = 0.5 * np.sum(self.inertia(k) * self.cloud.volume * np.sum(rate * rate, axis=1))
+            kinetic += self.comm.sum(float(local))
+        return kinetic, strain
+
     def kinetic_energy(self, v: NDArray) -> float:
         """Total kinetic energy 1/2 sum rho_i V_i |v_i|^2 (J), reduced over ranks."""
         local = float(0.5 * np.sum(self.density * self.cloud.volume * np.sum(v * v, axis=1)))
@@ -410,10 +435,12 @@ class Model:
         ratio of viscous to elastic bond coefficient (the 1-D rate constant of PD wave
         dispersion (n.d.), eq. 39). The quadratic term depends on the amplitude and is not included.
         """
-        bound = self.stiffness_bound()
-        with np.errstate(divide="ignore"):
-            per_point = np.where(bound > 0, np.sqrt(2.0 * self.density / bound), np.inf)
-        dt = self.comm.min(float(per_point.min()))
+        dt = np.inf
+        for group in range(len(self.force_model.dofs())):
+            bound = self.force_model.dof_stiffness_bound(group)
+            with np.errstate(divide="ignore"):
+                per_point = np.where(bound > 0, np.sqrt(2.0 * self.inertia(group) / bound), np.inf)
+            dt = min(dt, self.comm.min(float(per_point.min())))
         if self._viscous is not None and self._viscous[0] > 0:
             k = self._elastic_bond_stiffness()
             ok = k > 0

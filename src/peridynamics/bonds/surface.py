@@ -47,9 +47,18 @@ def energy_correction_factors(
         s = strain * (xi[:, k] / length) ** 2
         w = 0.25 * np.bincount(bonds.bond_i, stiffness * s * s * length, minlength=n)
         lam[k] = continuum_energy_density / w
+    return bond_factors_from_point_ratios(bonds, lam)
+
+
+def bond_factors_from_point_ratios(
+    bonds: Bonds, ratios: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Bond factors G = [sum_k (n_k / G_k)^2]^(-1/2), G_k = (lambda_k,i + lambda_k,j)/2,
+    shape (n_bonds,), from the per-direction point ratios ``ratios`` (dim, n_points)
+    = W_inf / W_k,i of any model family (the shared step of the energy method)."""
     n_hat = bonds.bond_xi / bonds.bond_length[:, None]
     acc = np.zeros(bonds.n_bonds)
-    for k in range(dim):
-        g_k = 0.5 * (lam[k][bonds.bond_i] + lam[k][bonds.bond_j])
+    for k in range(ratios.shape[0]):  # loop over the (<= 3) directions only
+        g_k = 0.5 * (ratios[k][bonds.bond_i] + ratios[k][bonds.bond_j])
         acc += (n_hat[:, k] / g_k) ** 2
     return 1.0 / np.sqrt(acc)

@@ -277,11 +277,25 @@ class LPSMaterialSpec(Strict):
     viscosity: Viscosity | None = None
 
 
+class MicropolarMaterialSpec(Strict):
+    """Micropolar bond-based material (``model: micropolar``; 2-D): axial, shear and
+    rotational bond springs, every point with (u, v, theta); Zhou, Zhu & Li (n.d.),
+    Diana & Casolo 2019. ``poisson_ratio`` up to 1/3 (plane stress) or 1/4 (plane
+    strain); ``rotational_stiffness_ratio`` = k_phi / k_t (1/12: beam lattice)."""
+
+    model: Literal["micropolar"]
+    youngs_modulus: PosFloat
+    density: PosFloat
+    poisson_ratio: Annotated[float, Field(gt=-1.0, le=1.0 / 3.0, allow_inf_nan=False), _Num] = 0.25
+    rotational_stiffness_ratio: NonNegFloat = 1.0 / 12.0
+
+
 #: the registry of model families: deck name -> schema of its material section
 MATERIAL_SCHEMAS: dict[str, type[Strict]] = {
     "pmb": Material,
     "bond_based": Material,
     "lps": LPSMaterialSpec,
+    "micropolar": MicropolarMaterialSpec,
 }
 
 
@@ -297,7 +311,8 @@ def _tag(default: str, key: str) -> Any:
 AnyMaterial = Annotated[
     Annotated[Material, Tag("pmb")]
     | Annotated[Material, Tag("bond_based")]
-    | Annotated[LPSMaterialSpec, Tag("lps")],
+    | Annotated[LPSMaterialSpec, Tag("lps")]
+    | Annotated[MicropolarMaterialSpec, Tag("micropolar")],
     Discriminator(_tag("pmb", "model")),
 ]
 
@@ -455,10 +470,11 @@ class VelocityBC(_OnSet):
 
 
 class FixedBC(_OnSet):
-    """u = v = 0 for the listed components (all if omitted)."""
+    """u = v = 0 for the listed components (all if omitted). ``rotation`` (micropolar
+    models) fixes the point rotation too; omitting ``components`` clamps everything."""
 
     type: Literal["fixed"]
-    components: list[Component] | None = Field(default=None, min_length=1)
+    components: list[Component | Literal["rotation"]] | None = Field(default=None, min_length=1)
 
 
 def _field_component(v: Any) -> float | str:
@@ -628,11 +644,38 @@ class ADRSolverSpec(Strict):
     max_damage_rounds: Annotated[int, Field(ge=1), _Num] = 50
 
 
+class StaticSolverSpec(Strict):
+    """Implicit static solver (``type: static``): Newton iterations on the unbalanced
+    force with the model's tangent, ``load_steps`` load levels (cut back when Newton
+    does not converge), prescribed displacements eliminated, and bond breaking between
+    solves (scheme A, B or C of Zhou, Zhu & Li (n.d.)); ``linear_solver`` auto picks a
+    direct solver below 250 000 free dofs and AMG-preconditioned CG above."""
+
+    type: Literal["static"]
+    load_steps: Annotated[int, Field(ge=1, le=1_000_000), _Num] = 10
+    tolerance: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False), _Num] = 1e-8
+    max_iterations: Annotated[int, Field(ge=1, le=10_000), _Num] = 20
+    max_cutbacks: Annotated[int, Field(ge=0, le=60), _Num] = 6
+    proportional: bool = True
+    linear_solver: Literal["auto", "direct", "iterative"] = "auto"
+    breaking: Literal["A", "B", "C"] = "C"
+    bonds_per_event: Annotated[int, Field(ge=1), _Num] = 4
+    event_driven: bool = True
+    reuse_factorization: bool = True
+    max_solves: Annotated[int, Field(ge=1), _Num] = 1_000_000
+
+
 #: the registry of solvers: deck name -> schema of its section
-SOLVER_SCHEMAS: dict[str, type[Strict]] = {"explicit": Solver, "adr": ADRSolverSpec}
+SOLVER_SCHEMAS: dict[str, type[Strict]] = {
+    "explicit": Solver,
+    "adr": ADRSolverSpec,
+    "static": StaticSolverSpec,
+}
 
 AnySolver = Annotated[
-    Annotated[Solver, Tag("explicit")] | Annotated[ADRSolverSpec, Tag("adr")],
+    Annotated[Solver, Tag("explicit")]
+    | Annotated[ADRSolverSpec, Tag("adr")]
+    | Annotated[StaticSolverSpec, Tag("static")],
     Discriminator(_tag("explicit", "type")),
 ]
 
@@ -642,6 +685,8 @@ Quantity = Literal[
     "velocity",
     "force_density",
     "reaction_force",
+    "rotation",
+    "moment",
     "max_stretch",
     "damage",
     "section_stress",
@@ -731,13 +776,10 @@ class Output(Strict):
     """What to write."""
 
     vtk_every: Annotated[int, Field(ge=0), _Num] = 0
-    history_every: Annotated[int, Field(gt=0), _Num] = 10
-    fields: list[Literal["displacement", "velocity", "damage", "force_density"]] = [
-        "displacement",
-        "velocity",
-        "damage",
-        "force_density",
-    ]
+    history_every: Annotated[int, Field(gt=0), _Num] | None = None
+    fields: list[
+        Literal["displacement", "velocity", "damage", "force_density", "rotation", "moment"]
+    ] = ["displacement", "velocity", "damage", "force_density", "rotation", "moment"]
     probes: list[Probe] = []
     crack_tip: CrackTip | None = None
     crack_paths: list[CrackPathSpec] = []
@@ -888,6 +930,21 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
                 "(omit poisson_ratio or set it to that value)",
             )
         )
+    if isinstance(mat, MicropolarMaterialSpec):
+        if dim != 2:
+            errors.append(("material.model", "micropolar is a 2-D model (plane stress or strain)"))
+        elif plane == "strain" and mat.poisson_ratio > 0.25:
+            errors.append(
+                (
+                    "material.poisson_ratio",
+                    f"{mat.poisson_ratio} is above the micropolar plane-strain limit 1/4 (the "
+                    "shear spring would be negative); use <= 0.25, plane stress or model lps",
+                )
+            )
+        if deck.damage.sed_softening is not None:
+            errors.append(
+                ("damage.sed_softening", "softens bond stiffness: needs material.model pmb")
+            )
     if isinstance(mat, LPSMaterialSpec):
         if dim == 1:
             errors.append(("material.model", "lps is a 2-D / 3-D model; use pmb for bars"))
@@ -920,6 +977,15 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
             errors.append((f"{path}.set", f"unknown node set {bc.set!r}; known: {sorted(sets)}"))
         comps = getattr(bc, "components", None) or []
         for comp in comps:
+            if comp == "rotation":
+                if not isinstance(deck.material, MicropolarMaterialSpec):
+                    errors.append(
+                        (
+                            f"{path}.components.rotation",
+                            "only material.model micropolar has point rotations",
+                        )
+                    )
+                continue
             if "xyz".index(comp) >= dim:
                 errors.append(
                     (f"{path}.components.{comp}", f"component {comp!r} does not exist in {dim}-D")

@@ -52,7 +52,10 @@ class RunContext:
     def history_due(self, s: State) -> bool:
         """True when histories are recorded after this step: every
         ``output.history_every`` steps, at the last step and when the run stops."""
-        return self.stop or s.step % self.deck.output.history_every == 0 or self.solver.done(s)
+        every = self.deck.output.history_every
+        if every is None:  # static solvers: every load step / solve; dynamics: every 10
+            every = 1 if self.deck.solver.type in ("adr", "static") else 10
+        return self.stop or s.step % every == 0 or self.solver.done(s)
 
     def initial_damage(self) -> NDArray:
         """Point damage of the bonds as built (pre-cracks), computed once."""
@@ -155,6 +158,11 @@ class History(Observer):
                 if probe.component == "magnitude"
                 else vec[COMP[probe.component]]
             )
+        if q in ("rotation", "moment"):
+            if "theta" not in s:
+                raise ValueError(f"probe {probe.name!r}: {q} needs material.model micropolar")
+            field = s["theta"] if q == "rotation" else s["moment"]
+            return _reduce(field[nodes, 0], probe.reduce or "mean", m.comm)
         arr = {"displacement": s.u, "velocity": s.v, "force_density": s.force}[q][nodes]
         vals = (
             np.linalg.norm(arr, axis=1)
@@ -168,8 +176,9 @@ class History(Observer):
         m, r = self.model, ctx.records
         damage = ctx.damage(s)
         r["time_s"].append(s.t)
-        r["kinetic_energy_J"].append(m.kinetic_energy(s.v))
-        r["strain_energy_J"].append(m.strain_energy(s.u, s.intact))
+        kinetic, strain = m.state_energies(s)
+        r["kinetic_energy_J"].append(kinetic)
+        r["strain_energy_J"].append(strain)
         r["max_damage"].append(m.comm.max(float(damage.max())))
         for p in self.deck.output.probes:
             r["probes"][p.name].append(self.probe_value(p, s, damage))
@@ -334,6 +343,11 @@ class VTKFrames(Observer):
             data["damage"] = ctx.damage(s)
         if "force_density" in fields:
             data["force_density"] = s.force
+        if "theta" in s:  # micropolar: point rotation (rad) and moment density (N m/m^3)
+            if "rotation" in fields:
+                data["rotation"] = s["theta"][:, 0]
+            if "moment" in fields:
+                data["moment_density"] = s["moment"][:, 0]
         fname = name or f"frame_{s.step:07d}.vtu"
         write_vtu(ctx.out / fname, self.model.cloud.x, data)
         if name is None:
@@ -492,6 +506,8 @@ class Figure(Observer):
                 "displacement": "m",
                 "velocity": "m/s",
                 "force_density": "N/m^3",
+                "rotation": "rad",
+                "moment": "N m/m^3",
                 "reaction_force": "N",
                 "section_stress": "Pa",
                 "max_stretch": "-",

@@ -51,13 +51,30 @@ class PrescribedDisplacement:
 
 @dataclass(frozen=True)
 class Fixed:
-    """u = v = 0 on ``nodes`` for the listed components (all when ``None``)."""
+    """u = v = 0 on ``nodes`` for the listed components (all when ``None``). For a model
+    with rotations (micropolar), ``"rotation"`` fixes theta = omega = 0 too; ``None``
+    (every component) clamps: displacements and rotation."""
 
     nodes: NDArray[np.intp]
     components: tuple[str, ...] | None = None
 
+    @property
+    def rotation(self) -> bool:
+        """True when the condition fixes the rotation of a micropolar model."""
+        return self.components is None or "rotation" in self.components
+
+    def apply_rotation(self, theta: NDArray, omega: NDArray) -> None:
+        """theta = omega = 0 on ``nodes`` when :attr:`rotation` (arrays (n, 1))."""
+        if self.rotation:
+            theta[self.nodes] = 0.0
+            omega[self.nodes] = 0.0
+
     def apply(self, u: NDArray, v: NDArray, t: float, dt: float) -> None:
-        names = self.components or tuple(COMPONENTS)[: u.shape[1]]
+        names = (
+            tuple(c for c in self.components if c != "rotation")
+            if self.components
+            else (tuple(COMPONENTS)[: u.shape[1]])
+        )
         for c, _ in _components(dict.fromkeys(names, 0.0), u.shape[1], "fixed"):
             u[self.nodes, c] = 0.0
             v[self.nodes, c] = 0.0

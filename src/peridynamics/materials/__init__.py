@@ -11,7 +11,18 @@ def _lps(*args: object, **kw: object) -> object:
     return LPSMaterial(*args, **kw)  # type: ignore[arg-type]
 
 
+def _micropolar(*args: object, **kw: object) -> object:
+    from peridynamics.materials.micropolar import MicropolarMaterial
+
+    return MicropolarMaterial(*args, **kw)  # type: ignore[arg-type]
+
+
 #: the registry of model families: ``material.model`` -> material class (or factory)
-MATERIALS: dict[str, Any] = {"pmb": BondBasedMaterial, "bond_based": BondBasedMaterial, "lps": _lps}
+MATERIALS: dict[str, Any] = {
+    "pmb": BondBasedMaterial,
+    "bond_based": BondBasedMaterial,
+    "lps": _lps,
+    "micropolar": _micropolar,
+}
 
 __all__ = ["MATERIALS", "PROFILES", "BondBasedMaterial", "fixed_poisson_ratio"]

@@ -116,9 +116,33 @@ class ForceModel(ABC):
         fictitious density of dynamic relaxation is built from it (Kilic & Madenci
         2010)."""
 
+    def dof_inertia(self, k: int) -> NDArray[np.float64]:
+        """Inertia of dof group k per unit mass density, shape (n,): 1 for
+        displacements; a rotation's (m^2) is the squared radius of gyration."""
+        return np.ones(self.n_points)
+
+    def dof_stiffness_bound(self, k: int) -> NDArray[np.float64]:
+        """Stiffness bound of dof group k, shape (n,), with the contract of
+        :meth:`stiffness_bound` (``dt_i = sqrt(2 rho_i inertia_i / K_i)`` is stable)."""
+        if k != 0:
+            raise NotImplementedError(f"the {self.name!r} model has one dof group")
+        return self.stiffness_bound()
+
+    def bond_stretch(self, state: State) -> NDArray[np.float64]:
+        """Stretch of every directed bond (n_bonds,) at ``state.u``: the quantity the
+        critical-stretch criterion compares with s0 (default: |xi + eta|/|xi| - 1)."""
+        from peridynamics.kernels import bond_based
+
+        b = self.bonds
+        out = np.empty(b.n_bonds)
+        bond_based.bond_stretch(self.cloud.x, state.u, b.offsets, b.bond_j, b.bond_length, out)
+        return out
+
     def tangent(self, state: State) -> sp.csr_matrix | None:
-        """Analytic tangent K = -d(V f)/du, shape (n dim, n dim) (N/m), or ``None`` when
-        the model has none (the finite-difference tangent is used instead)."""
+        """Analytic tangent K = -d(V f)/dq (N/m), shape (n c, n c) with c the dof
+        components per point in the order of :meth:`dofs` (``dim`` for displacement-only
+        models), or ``None`` when the model has none (the finite-difference tangent is
+        used instead)."""
         return None
 
     def on_restore(self, state: State) -> None:  # noqa: B027 - optional hook

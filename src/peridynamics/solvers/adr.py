@@ -271,6 +271,12 @@ class ADRSolver:
                     "a prescribed velocity has no meaning in a static (adr) run; prescribe "
                     "the displacement instead"
                 )
+        if len(model.force_model.dofs()) > 1:
+            raise ValueError(
+                f"adaptive dynamic relaxation integrates displacements only; the "
+                f"{model.force_model.name!r} model has rotations: use solver.type static "
+                "(or explicit)"
+            )
         self.model = model
         self.constraints = tuple(constraints)
         self.load_steps = int(load_steps)

@@ -121,6 +121,11 @@ class ExplicitSolver:
         # per-component inverse mass of each degree-of-freedom group (kg/m^3)^-1
         # (n, 1): every component of a point has the same mass, read once per point
         self._inv_mass = np.ascontiguousarray((1.0 / self.model.density)[:, None])
+        # further dof groups (micropolar rotations): value, rate, force, body, 1/inertia
+        self._extra = [
+            (g, np.ascontiguousarray((1.0 / self.model.inertia(k))[:, None]))
+            for k, g in enumerate(self.model.force_model.dofs()[1:], start=1)
+        ]
         self._blowup_limit = self.blowup_factor * self.model.cloud.size
         self.last_good: State | None = None
         if self.steps is not None and self.end_time is not None:
@@ -137,6 +142,7 @@ class ExplicitSolver:
         for iv in self.initial_velocities:
             iv.apply_initial(s.v)
         self._apply_constraints(s, 0.0)
+        self._fix_rotations(s)
         m.evaluate(s, commit=True)
         m.external_force(0.0, s.body)
         if self.integrator == "central_difference":
@@ -185,6 +191,13 @@ class ExplicitSolver:
             integrators.end_of_step_velocity(u, np.zeros((1, d)), v, f, b, inv, 1.0)
         bond_based.first_bad_point(u, v, np.zeros(d), 1.0)
 
+    def _fix_rotations(self, s: State) -> None:
+        """theta = omega = 0 where a fixed condition clamps the rotation (micropolar)."""
+        if self._extra:
+            for c in self.constraints:
+                if isinstance(c, Fixed):
+                    c.apply_rotation(s["theta"], s["omega"])
+
     def _apply_constraints(self, s: State, t: float) -> None:
         for c in self.constraints:
             if isinstance(c, PrescribedVelocity) and t == 0.0:
@@ -206,14 +219,20 @@ class ExplicitSolver:
             integrators.kick_drift(s.u, s.v, s.force, s.body, inv, dt)
         else:  # v holds the mid-step velocity (u+ - u)/dt after this call
             integrators.central_difference(s.u, s.u_prev, s.v, s.force, s.body, inv, dt)
+        for g, inv_g in self._extra:  # rotations: velocity Verlet for either integrator
+            integrators.kick_drift(s[g.value], s[g.rate], s[g.force], s[g.body], inv_g, dt)
         for c in self.constraints:  # positions at t + dt
             c.apply(s.u, s.v, t_new, dt)
+        self._fix_rotations(s)
         broken = m.evaluate(s, commit=True)
         m.external_force(t_new, s.body)
         if self.integrator == "velocity_verlet":
             integrators.kick(s.v, s.force, s.body, inv, dt)
         else:
             integrators.end_of_step_velocity(s.u, s.u_prev, s.v, s.force, s.body, inv, dt)
+        for g, inv_g in self._extra:
+            integrators.kick(s[g.rate], s[g.force], s[g.body], inv_g, dt)
+        self._fix_rotations(s)
         for c in self.constraints:  # velocities at t + dt
             if isinstance(c, PrescribedVelocity):
                 c.set_velocity(s.v, t_new)
