@@ -823,7 +823,9 @@ def test_defaults() -> None:
     assert deck.description == ""
     assert deck.damage.model == "none"
     assert deck.node_sets == {} and deck.precracks == [] and deck.boundary_conditions == []
-    assert deck.output.vtk_every == 0 and deck.output.history_every is None  # 10 (dynamics), 1 (static)
+    assert (
+        deck.output.vtk_every == 0 and deck.output.history_every is None
+    )  # 10 (dynamics), 1 (static)
     assert deck.output.plot == "auto" and deck.output.probes == []
     assert deck.discretisation.partial_volume == "truncated"
     assert deck.material.model == "pmb" and deck.material.micromodulus_profile == "constant"

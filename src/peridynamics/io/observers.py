@@ -615,7 +615,8 @@ class CrackPaths(Observer):
         final = self._last[1] if self._last and self._last[0] == s.step else self.paths(ctx, s)
         for name, p in final.items():
             lengths = np.asarray(r["crack_path_length_m"][name])
-            if len(t) >= 2:
+            static = self.deck.solver.type in ("adr", "static")  # no physical time
+            if len(t) >= 2 and not static:
                 speed, flagged = tip_speed_from_paths(t, lengths, c_r)
             else:
                 speed, flagged = np.zeros(len(t)), np.zeros(len(t), dtype=bool)

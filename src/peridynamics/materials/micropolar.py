@@ -167,7 +167,8 @@ class MicropolarMaterial:
         mu = self.shear_modulus
         scale = 12.0 / (math.pi * thickness * horizon**3)
         kn = scale * kappa
-        kt = max(scale * (2.0 * mu - kappa), 0.0)  # 0 at the limit (round-off)
+        shear = 2.0 * mu - kappa
+        kt = 0.0 if shear <= 1e-12 * kappa else scale * shear  # exactly 0 at the limit
         return SpringConstants(kn, kt, self.rotational_stiffness_ratio * kt)
 
     # -- fracture, waves, contact -------------------------------------------------------

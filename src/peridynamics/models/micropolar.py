@@ -134,18 +134,23 @@ class MicropolarForceModel(ForceModel):
 
     # -- bounds and tangent -----------------------------------------------------------------
     def _row_sums(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """Gershgorin row sums (N/m^4 per unit volume) of the translational and the
-        rotational rows of the undamaged stiffness, per point."""
+        """Gershgorin row sums of the mass-scaled undamaged stiffness M^-1/2 K M^-1/2,
+        per point, in the units of the :meth:`stiffness_bound` contract: translational
+        rows (N/m^4) and rotational rows (N/m^2), with the rotation measured by the
+        radius of gyration r_g = dx / sqrt 6 (so the coupling of a rotation row to the
+        displacements counts k_t (|n_x| + |n_y|) r_g and that of a displacement row to
+        the rotations k_t / r_g)."""
         b, k = self.bonds, self.springs
         il = self.inv_length
         n = b.bond_xi * il[:, None]
         a = np.abs(n).sum(axis=1)  # |n_x| + |n_y| (<= sqrt 2)
-        trans = self.weight * (2.0 * (k.axial + k.shear) * il * a + k.shear)
+        r_g = self.cloud.spacing / np.sqrt(6.0)
+        trans = self.weight * (2.0 * (k.axial + k.shear) * il * a + k.shear / r_g)
         length = b.bond_length
         rot = self.weight * (
             length * (0.25 * k.shear + k.rotational)
             + length * abs(0.25 * k.shear - k.rotational)
-            + k.shear * a
+            + k.shear * a * r_g
         )
         return family_sum(b.offsets, trans), family_sum(b.offsets, rot)
 

@@ -27,6 +27,7 @@ Re-use when bonds break (the stiffness loses a few pair matrices, K = K0 - dK):
 from __future__ import annotations
 
 import math
+import time
 from typing import Any
 
 import numpy as np
@@ -143,51 +144,74 @@ class AMGSolver:
 class UpdatedDirect:
     """A direct factorisation of K0 corrected for removed pair stiffnesses (Woodbury).
 
+    The columns Z and the removed stiffness D are kept in preallocated arrays. The
+    correction costs a dense LU of the |S| x |S| capacitance per event; once the time
+    spent on the correction since the factorisation exceeds the factorisation's own
+    time (or |S| reaches ``max_rank``), :attr:`full` asks for a refactorisation, which
+    keeps the total within about twice the best split between the two.
+
     Parameters
     ----------
     base : DirectSolver of K0_ff.
     n_free : int
+    factor_time : float
+        Wall time of the factorisation of K0 (s).
     max_rank : int, optional
-        Largest |S| before :attr:`full` (default: :data:`UPDATE_MEMORY` / (8 n_free)).
+        Largest |S| (default: :data:`UPDATE_MEMORY` / (8 n_free)).
     """
 
-    def __init__(self, base: DirectSolver, n_free: int, max_rank: int | None = None) -> None:
+    def __init__(
+        self,
+        base: DirectSolver,
+        n_free: int,
+        factor_time: float = 0.0,
+        max_rank: int | None = None,
+    ) -> None:
         self.base = base
         self.n_free = n_free
+        self.factor_time = float(factor_time)
         self.max_rank = max_rank or max(16, UPDATE_MEMORY // (8 * max(n_free, 1)))
         self.slot = np.full(n_free, -1, dtype=np.int64)  # position of a dof in S
-        self.dofs = np.zeros(0, dtype=np.int64)
-        self.z = np.zeros((n_free, 0))
+        self.dofs = np.zeros(self.max_rank, dtype=np.int64)
+        self.z = np.zeros((n_free, 0), order="F")  # grown to max_rank columns on first use
         self.delta = np.zeros((0, 0))
+        self.rank = 0
         self._cap: tuple[NDArray, NDArray] | None = None
         self.column_solves = 0
-
-    @property
-    def rank(self) -> int:
-        """|S|, the number of dofs the removed stiffness touches."""
-        return len(self.dofs)
+        self.overhead = 0.0  # s spent on the correction (not on solves with K0)
 
     @property
     def full(self) -> bool:
-        """True when |S| reached ``max_rank``: refactor."""
-        return self.rank >= self.max_rank
+        """True when a refactorisation is due (|S| at ``max_rank``, or the correction
+        has cost more than the factorisation)."""
+        return self.rank >= self.max_rank or self.overhead > self.factor_time
 
     def remove(self, dofs: NDArray[np.int64], blocks: NDArray[np.float64]) -> None:
         """Remove pair stiffnesses: ``blocks`` (m, p, p) on free-dof indices ``dofs``
-        (m, p), -1 for a constrained dof (its rows and columns are dropped)."""
+        (m, p), -1 for a constrained dof (its rows and columns are dropped).
+
+        Raises
+        ------
+        OverflowError
+            When the new dofs do not fit in ``max_rank`` (refactor first).
+        """
         used = np.unique(dofs[dofs >= 0])
         new = used[self.slot[used] < 0]
+        r0, r1 = self.rank, self.rank + len(new)
+        if r1 > self.max_rank:
+            raise OverflowError("the Woodbury correction is full: refactor")
+        if self.z.shape[1] == 0:
+            self.z = np.zeros((self.n_free, self.max_rank), order="F")
+            self.delta = np.zeros((self.max_rank, self.max_rank))
         if len(new):
-            start = self.rank
-            self.slot[new] = start + np.arange(len(new))
-            self.dofs = np.concatenate([self.dofs, new])
+            self.slot[new] = np.arange(r0, r1)
+            self.dofs[r0:r1] = new
             e = np.zeros((self.n_free, len(new)))
             e[new, np.arange(len(new))] = 1.0
-            self.z = np.concatenate([self.z, self.base.solve(e)], axis=1)
+            self.z[:, r0:r1] = self.base.solve(e)
             self.column_solves += len(new)
-            grown = np.zeros((self.rank, self.rank))
-            grown[:start, :start] = self.delta
-            self.delta = grown
+            self.rank = r1
+        t0 = time.perf_counter()
         pos = np.where(dofs >= 0, self.slot[np.maximum(dofs, 0)], -1)
         m, p = dofs.shape
         rows = np.broadcast_to(pos[:, :, None], (m, p, p)).ravel()
@@ -195,14 +219,19 @@ class UpdatedDirect:
         ok = (rows >= 0) & (cols >= 0)
         np.add.at(self.delta, (rows[ok], cols[ok]), blocks.ravel()[ok])
         self._cap = None
+        self.overhead += time.perf_counter() - t0
 
     def solve(self, b: NDArray[np.float64]) -> NDArray[np.float64]:
         """(K0 - dK)^-1 b, shape (n_free,)."""
         y = self.base.solve(b)
-        if self.rank == 0:
+        r = self.rank
+        if r == 0:
             return y
+        t0 = time.perf_counter()
+        delta = self.delta[:r, :r]
+        s = self.dofs[:r]
         if self._cap is None:
-            cap = np.eye(self.rank) - self.delta @ self.z[self.dofs]
+            cap = np.eye(r) - delta @ self.z[s, :r]
             lu, piv = la.lu_factor(cap, check_finite=False)
             if not np.all(np.isfinite(lu)) or np.min(np.abs(np.diag(lu))) < 1e-12:
                 raise SingularSystem(
@@ -210,8 +239,10 @@ class UpdatedDirect:
                     "is free to move"
                 )
             self._cap = (lu, piv)
-        w = la.lu_solve(self._cap, self.delta @ y[self.dofs], check_finite=False)
-        return y + self.z @ w
+        w = la.lu_solve(self._cap, delta @ y[s], check_finite=False)
+        out = y + self.z[:, :r] @ w
+        self.overhead += time.perf_counter() - t0
+        return out
 
 
 def choose(method: str, n_free: int) -> str:

@@ -186,6 +186,8 @@ class StaticSolver:
         self._free_pos = np.zeros(0, dtype=np.int64)
         self._removed: list[sp.coo_matrix] = []
         self._amg_base_iterations = 0
+        self._columns_before = 0
+        self._stretch: NDArray[np.float64] | None = None
         self.stats: dict[str, float] = {
             "solves": 0,
             "newton_iterations": 0,
@@ -285,14 +287,17 @@ class StaticSolver:
         method = lin.choose(self.linear_solver, len(self._free))
         self.linear_solver_used = method
         if method == "direct":
+            t1 = time.perf_counter()
             base = lin.DirectSolver(k_ff)
-            self._factor = lin.UpdatedDirect(base, len(self._free))
+            self._factor = lin.UpdatedDirect(base, len(self._free), time.perf_counter() - t1)
         else:
             modes = lin.rigid_modes(self.model.cloud.x, self.width)[self._free]
             self._factor = lin.AMGSolver(k_ff, modes, rtol=0.01 * self.tolerance)
             self._k0 = k_ff
             self._amg_base_iterations = 0
         self._removed = []
+        if isinstance(self._factor, lin.UpdatedDirect):
+            self._columns_before = int(self.stats["update_column_solves"])
         self.stats["factorizations"] += 1
         self.stats["factorization_s"] += time.perf_counter() - t0
 
@@ -334,10 +339,11 @@ class StaticSolver:
         blocks = fm.pair_stiffness(bonds)  # type: ignore[attr-defined]
         f = self._factor
         if isinstance(f, lin.UpdatedDirect):
+            if f.full or f.rank + local.size > f.max_rank:
+                self._factor = None  # refactor with these bonds gone
+                return
             f.remove(local, blocks)
-            self.stats["update_column_solves"] = f.column_solves
-            if f.full:
-                self._factor = None
+            self.stats["update_column_solves"] = self._columns_before + f.column_solves
         else:
             m, p = local.shape
             rows = np.broadcast_to(local[:, :, None], (m, p, p)).ravel()
@@ -384,18 +390,21 @@ class StaticSolver:
             it += 1
 
     def _violations(self, s: State) -> bool:
+        """Compute (and keep) the bond stretch of the equilibrium ``s``; True when a bond
+        reached its critical stretch."""
         if self.breaker is None:
             return False
-        stretch = self.model.force_model.bond_stretch(s)
-        return bool(len(self.breaker.select(stretch, s.intact)))
+        self._stretch = self.model.force_model.bond_stretch(s)
+        return bool(len(self.breaker.select(self._stretch, s.intact)))
 
     def _next_level(self, s: State) -> float:
         """The next load level: k / N, or the next breaking event when scalable."""
         k = math.floor(self.lam * self.load_steps + 1e-9) + 1
         level = min(k / self.load_steps, 1.0)
         if self.scalable and self.event_driven and self.breaker is not None and self.lam > 0:
-            stretch = self.model.force_model.bond_stretch(s)
-            factor = self.breaker.critical_factor(stretch, s.intact)
+            if self._stretch is None:
+                self._stretch = self.model.force_model.bond_stretch(s)
+            factor = self.breaker.critical_factor(self._stretch, s.intact)
             event = self.lam * factor * (1.0 + _EVENT_MARGIN)
             if event < level:
                 level = event
@@ -408,8 +417,10 @@ class StaticSolver:
         events: list[str] = []
         broken = 0
         if self._pending and self.breaker is not None:
-            stretch = self.model.force_model.bond_stretch(s)
-            pairs = self.breaker.select(stretch, s.intact)
+            if self._stretch is None:
+                self._stretch = self.model.force_model.bond_stretch(s)
+            pairs = self.breaker.select(self._stretch, s.intact)
+            self._stretch = None
             both = self.breaker.both_directions(pairs)
             s.intact[both] = 0
             broken = len(both)
