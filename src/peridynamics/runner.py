@@ -627,6 +627,9 @@ class Simulation:
             extra_fields["critical_stretch"] = m.point_s0
         except AttributeError:
             pass
+        for group in m.force_model.dofs()[1:]:  # micropolar: theta (rad), moment (N m/m^3)
+            extra_fields[group.value] = s[group.value]
+            extra_fields[group.force] = s[group.force]
         np.savez(
             ctx.out / "final_state.npz",
             u=s.u,

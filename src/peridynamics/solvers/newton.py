@@ -188,6 +188,7 @@ class StaticSolver:
         self._amg_base_iterations = 0
         self._columns_before = 0
         self._stretch: NDArray[np.float64] | None = None
+        self._first_break: tuple[list[float], float] | None = None
         self.stats: dict[str, float] = {
             "solves": 0,
             "newton_iterations": 0,
@@ -422,6 +423,11 @@ class StaticSolver:
             pairs = self.breaker.select(self._stretch, s.intact)
             self._stretch = None
             both = self.breaker.both_directions(pairs)
+            if self._first_break is None and len(pairs):
+                b = self.model.bonds
+                x = self.model.cloud.x
+                mid = 0.5 * (x[b.bond_i[pairs]] + x[b.bond_j[pairs]])
+                self._first_break = (mid.mean(axis=0).tolist(), self.lam)
             s.intact[both] = 0
             broken = len(both)
             s.bonds_broken += broken
@@ -544,6 +550,10 @@ class StaticSolver:
             "time_per_event_s": float(st["event_s"] / events) if events else None,
             "reuse_factorization": self.reuse,
             "pinned_points": int(st["pinned_points"]),
+            "first_break_m": None if self._first_break is None else self._first_break[0],
+            "first_break_load_factor": (
+                None if self._first_break is None else self._first_break[1]
+            ),
             "converged": self._failed is None and self.lam >= 1.0 - 1e-12,
             "message": message,
             "time_step_s": None,
