@@ -21,8 +21,8 @@ Each case runs its deck (``cantilever.yaml``, ``dcb.yaml``, ``l_panel.yaml``) in
   largest distance of the crack path from the mid-line;
 * l_panel: the crack start (the mean midpoint of the first broken pairs against the
   re-entrant corner), the angle of the crack path over its first 25 and 50 mm (upward
-  from the horizontal, heading left), where it ends, and the P-Delta curve against Winkler's experiment (thesis Fig. 7.12,
-  series A) with the peak loads of both.
+  from the horizontal, heading left), where it ends, and the P-Delta curve against
+  Winkler's experiment (thesis Fig. 7.12, series A) with the peak loads of both.
 """
 
 from __future__ import annotations
