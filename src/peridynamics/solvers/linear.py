@@ -41,6 +41,8 @@ from numpy.typing import NDArray
 #: neighbours takes 9 s, its fill grows faster than linearly)
 AUTO_DIRECT_LIMIT = 250_000
 LINEAR_SOLVERS: tuple[str, ...] = ("auto", "direct", "iterative")
+#: smallest admissible pivot of the diagonally scaled factorisation
+PIVOT_TOLERANCE = 1e-10
 #: memory for the Woodbury columns Z of :class:`UpdatedDirect` (bytes)
 UPDATE_MEMORY = 512 * 2**20
 
@@ -81,6 +83,14 @@ class DirectSolver:
             )  # fmt: skip
         except RuntimeError as exc:
             raise SingularSystem(f"the stiffness is singular ({exc})") from None
+        # the scaled matrix has a unit diagonal: a pivot many orders below 1 means a
+        # (numerically) singular system, e.g. a body free to move as a rigid body
+        pivots = np.abs(self.lu.U.diagonal())
+        if not np.all(np.isfinite(pivots)) or pivots.min(initial=1.0) < PIVOT_TOLERANCE:
+            raise SingularSystem(
+                f"the stiffness is singular (smallest scaled pivot {pivots.min():.3g}): a "
+                "part of the body can move freely; constrain the rigid-body motion"
+            )
         self.fill = int(self.lu.L.nnz + self.lu.U.nnz)
 
     def solve(self, b: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -113,12 +123,19 @@ class AMGSolver:
     def solve_with(
         self, operator: Any, b: NDArray[np.float64], x0: NDArray[np.float64] | None = None
     ) -> NDArray[np.float64]:
-        """CG on the scaled ``operator`` (a matrix or a function of x, unscaled)."""
+        """K^-1 b by CG for K = ``operator``, an unscaled sparse matrix or a function
+        x -> K x, preconditioned by the hierarchy of the matrix this solver was built
+        with (the scaling is applied here)."""
         d = self.d
-        if callable(operator):
-            op = spla.LinearOperator(self.a.shape, matvec=lambda y: d * operator(d * y))
-        else:
-            op = operator
+        apply = operator if callable(operator) else operator.__matmul__
+        op = spla.LinearOperator(self.a.shape, matvec=lambda y: d * apply(d * y))
+        return self._cg(op, b, x0)
+
+    def _cg(
+        self, op: Any, b: NDArray[np.float64], x0: NDArray[np.float64] | None
+    ) -> NDArray[np.float64]:
+        """CG on the scaled operator ``op``; returns the unscaled solution."""
+        d = self.d
         count = [0]
 
         def tick(_: Any) -> None:
@@ -137,8 +154,8 @@ class AMGSolver:
         return d * y
 
     def solve(self, b: NDArray[np.float64]) -> NDArray[np.float64]:
-        """K^-1 b (b of shape (m,))."""
-        return self.solve_with(self.a, b)
+        """K^-1 b (b of shape (m,)) for the matrix the solver was built with."""
+        return self._cg(self.a, b, None)
 
 
 class UpdatedDirect:

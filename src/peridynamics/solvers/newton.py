@@ -462,6 +462,10 @@ class StaticSolver:
             converged, iterations, residual = False, 0, float("nan")
             events.append("failed")
         self.stats["solves"] += 1
+        if not converged and "failed" not in events:  # back to the last equilibrium
+            self._scatter(saved, s)
+            self._set_loads(s, lam0)
+            self.model.evaluate(s, commit=False)
         if converged:
             self.lam = target
             self._pending = self._violations(s)
