@@ -238,15 +238,27 @@ class UpdatedDirect:
         self._cap = None
         self.overhead += time.perf_counter() - t0
 
-    def solve(self, b: NDArray[np.float64]) -> NDArray[np.float64]:
-        """(K0 - dK)^-1 b, shape (n_free,)."""
-        y = self.base.solve(b)
+    def solve(self, b: NDArray[np.float64], negligible: float = 0.0) -> NDArray[np.float64]:
+        """(K0 - dK)^-1 b, shape (n_free,).
+
+        When the part of ``b`` outside the touched dofs S has a norm <= ``negligible``
+        (the residual right after bonds broke: the removed stiffness times the old
+        solution, on the broken pairs' dofs only, plus the round-off of the last
+        solve), K0^-1 b is taken from the columns Z (no solve with the factors); what
+        is left out is at most ``negligible`` in the next residual."""
         r = self.rank
+        s = self.dofs[:r]
+        if r and negligible > 0.0:
+            outside = b.copy()
+            outside[s] = 0.0
+            rest = float(np.linalg.norm(outside))
+            y = self.z[:, :r] @ b[s] if rest <= negligible else self.base.solve(b)
+        else:
+            y = self.base.solve(b)
         if r == 0:
             return y
         t0 = time.perf_counter()
         delta = self.delta[:r, :r]
-        s = self.dofs[:r]
         if self._cap is None:
             cap = np.eye(r) - delta @ self.z[s, :r]
             lu, piv = la.lu_factor(cap, check_finite=False)

@@ -302,15 +302,19 @@ class StaticSolver:
         self.stats["factorizations"] += 1
         self.stats["factorization_s"] += time.perf_counter() - t0
 
-    def _linear_solve(self, s: State, p: NDArray[np.float64]) -> NDArray[np.float64]:
-        """K_ff^-1 P_free (the Newton correction of the free dofs)."""
+    def _linear_solve(
+        self, s: State, p: NDArray[np.float64], negligible: float = 0.0
+    ) -> NDArray[np.float64]:
+        """K_ff^-1 P_free (the Newton correction of the free dofs); a part of P outside
+        the dofs touched by broken bonds below ``negligible`` (N) may be left to the
+        next Newton iteration (:meth:`UpdatedDirect.solve`)."""
         t0 = time.perf_counter()
         if self._factor is None or not self.linear_model:
             self._refactor(s)
         f = self._factor
         rhs = p[self._free]
         if isinstance(f, lin.UpdatedDirect):
-            out = f.solve(rhs)
+            out = f.solve(rhs, negligible)
         else:
             if self._removed:
                 removed = sp.csr_matrix(sum(self._removed[1:], self._removed[0]))
@@ -383,7 +387,7 @@ class StaticSolver:
                 return True, it, residual
             if it >= self.max_iterations:
                 return False, it, residual
-            dq = self._linear_solve(s, p)
+            dq = self._linear_solve(s, p, 0.1 * self.tolerance * ref)
             q = self._gather(s).reshape(-1)
             q[self._free] += dq
             self._scatter(q.reshape(-1, self.width), s)
