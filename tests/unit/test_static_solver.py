@@ -555,3 +555,34 @@ def test_rotation_component_needs_a_micropolar_model() -> None:
         parse_deck(d)
     assert any(p.startswith("boundary_conditions.0.components") for p in _paths(info.value))
     assert "boundary_conditions.0.components.rotation" in _paths(info.value)
+
+
+@pytest.mark.parametrize("refresh", [3, 1000])
+def test_woodbury_update_equals_a_fresh_factorisation(refresh: int, monkeypatch) -> None:
+    """UpdatedDirect after many removals == SuperLU of the updated matrix, with the
+    capacitance inverse updated incrementally (refresh 1000) or recomputed often (3)."""
+    import scipy.sparse as sp
+
+    from peridynamics.solvers import linear as lin
+
+    monkeypatch.setattr(lin, "REFRESH_EVENTS", refresh)
+    rng = np.random.default_rng(3)
+    n = 60
+    # a chain of springs plus a diagonal: SPD; "pairs" are the springs (i, i+1)
+    k_spring = rng.uniform(1.0, 2.0, n - 1)
+    pair = np.array([[1.0, -1.0], [-1.0, 1.0]])
+    rows = np.concatenate([np.arange(n - 1), np.arange(1, n)] * 2)
+    cols = np.concatenate([np.arange(n - 1), np.arange(1, n), np.arange(1, n), np.arange(n - 1)])
+    vals = np.concatenate([k_spring, k_spring, -k_spring, -k_spring])
+    k0 = sp.csr_matrix((vals, (rows, cols)), shape=(n, n)) + sp.diags(rng.uniform(0.5, 1.0, n))
+    upd = lin.UpdatedDirect(lin.DirectSolver(k0), n)
+    k = k0.toarray()
+    b = rng.normal(size=n)
+    for event, first in enumerate(rng.choice(n - 1, size=12, replace=False)):
+        dofs = np.array([[first, first + 1]])
+        blocks = (0.5 * k_spring[first] * pair)[None]  # remove half of the spring
+        upd.remove(dofs, blocks)
+        k[np.ix_(dofs[0], dofs[0])] -= blocks[0]
+        x = upd.solve(b)
+        assert np.allclose(x, np.linalg.solve(k, b), rtol=1e-10, atol=1e-12), event
+    assert upd.rank <= 24 and upd.column_solves == upd.rank

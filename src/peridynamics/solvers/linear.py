@@ -31,7 +31,6 @@ import time
 from typing import Any
 
 import numpy as np
-import scipy.linalg as la
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
@@ -44,7 +43,11 @@ LINEAR_SOLVERS: tuple[str, ...] = ("auto", "direct", "iterative")
 #: smallest admissible pivot of the diagonally scaled factorisation
 PIVOT_TOLERANCE = 1e-10
 #: memory for the Woodbury columns Z of :class:`UpdatedDirect` (bytes)
-UPDATE_MEMORY = 512 * 2**20
+UPDATE_MEMORY = 2 * 2**30
+#: events between recomputations of the capacitance inverse of :class:`UpdatedDirect`
+REFRESH_EVENTS = 200
+#: largest |S| of :class:`UpdatedDirect` (its two dense |S| x |S| arrays: 256 MiB)
+MAX_RANK = 4096
 
 
 class SingularSystem(ValueError):
@@ -161,11 +164,21 @@ class AMGSolver:
 class UpdatedDirect:
     """A direct factorisation of K0 corrected for removed pair stiffnesses (Woodbury).
 
-    The columns Z and the removed stiffness D are kept in preallocated arrays. The
-    correction costs a dense LU of the |S| x |S| capacitance per event; once the time
-    spent on the correction since the factorisation exceeds the factorisation's own
-    time (or |S| reaches ``max_rank``), :attr:`full` asks for a refactorisation, which
-    keeps the total within about twice the best split between the two.
+    With S the dofs the removed stiffness touches, Z = K0^-1 E_S (n_free x |S|), G = Z_S
+    (its rows on S) and D the removed stiffness on S, the capacitance C = I - D G is
+    kept as an explicit inverse H = C^-1 that every event updates in O(|S|^2 k) instead
+    of refactoring C in O(|S|^3):
+
+    * new dofs (k of them) border C with [[C, -D g], [0, I]] (g = G[S_old, new]), whose
+      inverse is [[H, H D g], [0, I]];
+    * the event's stiffness D_e on its p dofs R changes C by -E_R (D_e G[R, :]), a
+      rank-p update: H <- H + H[:, R] (I - B H[:, R])^-1 B H with B = D_e G[R, :]
+      (Sherman-Morrison-Woodbury); a singular (I - B H[:, R]) means the body fell apart.
+
+    H is recomputed from C every :data:`REFRESH_EVENTS` events against round-off. The
+    arrays are preallocated to ``max_rank``; once the time spent on the correction since
+    the factorisation exceeds the factorisation's own time (or |S| reaches
+    ``max_rank``), :attr:`full` asks for a refactorisation.
 
     Parameters
     ----------
@@ -174,7 +187,8 @@ class UpdatedDirect:
     factor_time : float
         Wall time of the factorisation of K0 (s).
     max_rank : int, optional
-        Largest |S| (default: :data:`UPDATE_MEMORY` / (8 n_free)).
+        Largest |S| (default: :data:`UPDATE_MEMORY` / (8 n_free), at most
+        :data:`MAX_RANK` and n_free).
     """
 
     def __init__(
@@ -187,14 +201,16 @@ class UpdatedDirect:
         self.base = base
         self.n_free = n_free
         self.factor_time = float(factor_time)
-        self.max_rank = max_rank or max(16, UPDATE_MEMORY // (8 * max(n_free, 1)))
+        budget = min(UPDATE_MEMORY // (8 * max(n_free, 1)), MAX_RANK, n_free)
+        self.max_rank = max_rank or max(min(16, n_free), budget)
         self.slot = np.full(n_free, -1, dtype=np.int64)  # position of a dof in S
         self.dofs = np.zeros(self.max_rank, dtype=np.int64)
         self.z = np.zeros((n_free, 0), order="F")  # grown to max_rank columns on first use
         self.delta = np.zeros((0, 0))
+        self.h = np.zeros((0, 0))
         self.rank = 0
-        self._cap: tuple[NDArray, NDArray] | None = None
         self.column_solves = 0
+        self.events = 0
         self.overhead = 0.0  # s spent on the correction (not on solves with K0)
 
     @property
@@ -202,6 +218,11 @@ class UpdatedDirect:
         """True when a refactorisation is due (|S| at ``max_rank``, or the correction
         has cost more than the factorisation)."""
         return self.rank >= self.max_rank or self.overhead > self.factor_time
+
+    def _g(self, rows: NDArray[np.int64], cols: slice) -> NDArray:
+        """G[rows, cols] = Z[dofs[rows], cols] (a gather of the needed entries only)."""
+        c = np.arange(cols.start, cols.stop)
+        return self.z[np.ix_(self.dofs[rows], c)]
 
     def remove(self, dofs: NDArray[np.int64], blocks: NDArray[np.float64]) -> None:
         """Remove pair stiffnesses: ``blocks`` (m, p, p) on free-dof indices ``dofs``
@@ -211,6 +232,8 @@ class UpdatedDirect:
         ------
         OverflowError
             When the new dofs do not fit in ``max_rank`` (refactor first).
+        SingularSystem
+            When the stiffness without these pairs is singular.
         """
         used = np.unique(dofs[dofs >= 0])
         new = used[self.slot[used] < 0]
@@ -218,8 +241,10 @@ class UpdatedDirect:
         if r1 > self.max_rank:
             raise OverflowError("the Woodbury correction is full: refactor")
         if self.z.shape[1] == 0:
-            self.z = np.zeros((self.n_free, self.max_rank), order="F")
-            self.delta = np.zeros((self.max_rank, self.max_rank))
+            mr = self.max_rank
+            self.z = np.zeros((self.n_free, mr), order="F")
+            self.delta = np.zeros((mr, mr))
+            self.h = np.zeros((mr, mr))
         if len(new):
             self.slot[new] = np.arange(r0, r1)
             self.dofs[r0:r1] = new
@@ -227,16 +252,57 @@ class UpdatedDirect:
             e[new, np.arange(len(new))] = 1.0
             self.z[:, r0:r1] = self.base.solve(e)
             self.column_solves += len(new)
-            self.rank = r1
         t0 = time.perf_counter()
+        if len(new):  # border H: [[H, H D g], [0, I]]
+            if r0:
+                g = self._g(np.arange(r0), slice(r0, r1))
+                self.h[:r0, r0:r1] = self.h[:r0, :r0] @ (self.delta[:r0, :r0] @ g)
+            self.h[r0:r1, :r1] = 0.0
+            self.h[r0:r1, r0:r1] = np.eye(r1 - r0)
+            self.rank = r1
+        # the event's removed stiffness on its slots R
         pos = np.where(dofs >= 0, self.slot[np.maximum(dofs, 0)], -1)
+        rset = np.unique(pos[pos >= 0])
+        local = np.full(self.max_rank, -1, dtype=np.int64)
+        local[rset] = np.arange(len(rset))
         m, p = dofs.shape
         rows = np.broadcast_to(pos[:, :, None], (m, p, p)).ravel()
         cols = np.broadcast_to(pos[:, None, :], (m, p, p)).ravel()
         ok = (rows >= 0) & (cols >= 0)
-        np.add.at(self.delta, (rows[ok], cols[ok]), blocks.ravel()[ok])
-        self._cap = None
+        d_e = np.zeros((len(rset), len(rset)))
+        np.add.at(d_e, (local[rows[ok]], local[cols[ok]]), blocks.ravel()[ok])
+        self.delta[np.ix_(rset, rset)] += d_e
+        r = self.rank
+        self.events += 1
+        if self.events % REFRESH_EVENTS == 0:
+            self._refresh()
+        else:
+            b = d_e @ self._g(rset, slice(0, r))  # (p, r)
+            hr = self.h[:r, rset]  # (r, p)
+            small = np.eye(len(rset)) - b @ hr
+            try:
+                upd = np.linalg.solve(small, b @ self.h[:r, :r])
+            except np.linalg.LinAlgError:
+                upd = np.full((len(rset), r), np.nan)
+            if not np.all(np.isfinite(upd)) or np.linalg.cond(small) > 1e12:
+                raise SingularSystem(
+                    "the stiffness became singular after bonds broke: a part of the body "
+                    "is free to move"
+                )
+            self.h[:r, :r] += hr @ upd
         self.overhead += time.perf_counter() - t0
+
+    def _refresh(self) -> None:
+        """H = C^-1 recomputed from C = I - D G (against accumulated round-off)."""
+        r = self.rank
+        cap = np.eye(r) - self.delta[:r, :r] @ self._g(np.arange(r), slice(0, r))
+        try:
+            self.h[:r, :r] = np.linalg.inv(cap)
+        except np.linalg.LinAlgError:
+            raise SingularSystem(
+                "the stiffness became singular after bonds broke: a part of the body is "
+                "free to move"
+            ) from None
 
     def solve(self, b: NDArray[np.float64], negligible: float = 0.0) -> NDArray[np.float64]:
         """(K0 - dK)^-1 b, shape (n_free,).
@@ -258,17 +324,7 @@ class UpdatedDirect:
         if r == 0:
             return y
         t0 = time.perf_counter()
-        delta = self.delta[:r, :r]
-        if self._cap is None:
-            cap = np.eye(r) - delta @ self.z[s, :r]
-            lu, piv = la.lu_factor(cap, check_finite=False)
-            if not np.all(np.isfinite(lu)) or np.min(np.abs(np.diag(lu))) < 1e-12:
-                raise SingularSystem(
-                    "the stiffness became singular after bonds broke: a part of the body "
-                    "is free to move"
-                )
-            self._cap = (lu, piv)
-        w = la.lu_solve(self._cap, delta @ y[s], check_finite=False)
+        w = self.h[:r, :r] @ (self.delta[:r, :r] @ y[s])
         out = y + self.z[:, :r] @ w
         self.overhead += time.perf_counter() - t0
         return out
