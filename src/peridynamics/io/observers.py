@@ -549,6 +549,7 @@ class CrackPaths(Observer):
         self.deck, self.model = deck, model
         self.specs = deck.output.crack_paths
         self._last: tuple[int, dict[str, Any]] | None = None  # (step, paths) of the last record
+        self._broken = -1  # state.bonds_broken at the last record
 
     def on_start(self, ctx: RunContext, s: State, resumed: bool) -> None:
         r = ctx.records
@@ -589,9 +590,14 @@ class CrackPaths(Observer):
         return out
 
     def record(self, ctx: RunContext, s: State) -> None:
-        """Append the path lengths at this state."""
+        """Append the path lengths at this state (the paths of the last record are
+        reused when no bond broke since: damage, and so the paths, are unchanged)."""
         r = ctx.records
-        paths = self.paths(ctx, s)
+        if self._last is not None and self._broken == s.bonds_broken:
+            paths = self._last[1]
+        else:
+            paths = self.paths(ctx, s)
+        self._broken = s.bonds_broken
         self._last = (s.step, paths)
         r["crack_path_time_s"].append(s.t)
         for name, p in paths.items():
