@@ -91,3 +91,37 @@ def test_l_panel_small(tmp_path: Path) -> None:
     assert 5.0 < res["crack_angle_first_25mm_deg"] < 45.0
     assert 40.0 < res["initial_stiffness_kN_per_mm"] < 90.0
     assert 10.0 < res["peak_load_kN"] < 20.0
+
+
+def test_cantilever_paper_resolution(tmp_path: Path) -> None:
+    """The paper's cantilever (dx = 0.01 m, 100 x 30): measured u_y 0.994 and u_x 0.984
+    of the FEM reference at the same points (the paper claims < 1 % for both: u_x misses
+    it by 0.6 %), the tip 0.991 of Timoshenko-Goodier."""
+    pytest.importorskip("skfem")
+    res = _run(tmp_path, "cantilever")
+    assert 0.99 < res["uy_ratio_pd_to_fem"] < 1.0
+    assert 0.98 < res["ux_ratio_pd_to_fem"] < 1.0
+    assert 0.985 < res["tip_ratio_pd_to_tg"] < 1.0
+
+
+@pytest.mark.slow
+def test_dcb_paper_resolution(tmp_path: Path) -> None:
+    """dx = 0.5 mm (about 9 min): measured compliance 1.029 x corrected beam theory,
+    first event 1.009 x LEFM, events on the straight part 1.30 +- 0.06 x LEFM."""
+    res = _run(tmp_path, "dcb")
+    assert 0.97 < res["compliance_ratio_pd_to_cbt"] < 1.03
+    assert 0.95 < res["first_event_p_over_p_lefm"] < 1.10
+    assert 1.15 < res["p_over_p_lefm_mean"] < 1.40
+    assert res["max_path_offset_from_midline_m"] <= 5.0e-4
+
+
+@pytest.mark.slow
+def test_l_panel_paper_resolution(tmp_path: Path) -> None:
+    """dx = 2.5 mm, 80 neighbours (about 25 min): measured first break 4.5 mm from the
+    corner, 22.8 deg over the first 25 mm, the path 19 mm short of the left edge at
+    1 mm, peak 13.9 kN."""
+    res = _run(tmp_path, "l_panel")
+    assert res["first_break_distance_from_corner_m"] < 0.01
+    assert 15.0 < res["crack_angle_first_25mm_deg"] < 30.0
+    assert res["crack_end_m"][0] < 0.05
+    assert 12.0 < res["peak_load_kN"] < 16.0
