@@ -52,7 +52,6 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
-import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from peridynamics.damage.critical_stretch import CriticalStretchLaw
@@ -63,6 +62,7 @@ from peridynamics.solvers import linear as lin
 from peridynamics.solvers.base import StepResult
 from peridynamics.solvers.breaking import PairBreaker
 from peridynamics.solvers.explicit import SimulationUnstable
+from peridynamics.solvers.tangent_system import TangentSystem
 from peridynamics.state import State
 
 _EVENT_MARGIN = 1e-9  # lambda_c is raised by this relative margin so the bond breaks
@@ -181,12 +181,6 @@ class StaticSolver:
         self._pending = False
         self._failed: str | None = None
         self._peak_ref = 0.0
-        self._factor: Any = None
-        self._free = np.zeros(0, dtype=np.int64)
-        self._free_pos = np.zeros(0, dtype=np.int64)
-        self._removed: list[sp.coo_matrix] = []
-        self._amg_base_iterations = 0
-        self._columns_before = 0
         self._stretch: NDArray[np.float64] | None = None
         self._first_break: tuple[list[float], float] | None = None
         self.stats: dict[str, float] = {
@@ -201,7 +195,9 @@ class StaticSolver:
             "linear_solve_s": 0.0,
             "pinned_points": 0,
         }
-        self.linear_solver_used = ""
+        self.system = TangentSystem(
+            model, self.width, self.fixed, linear_solver, self.tolerance, self.reuse, self.stats
+        )
 
     # -- loads and dofs -------------------------------------------------------------------
     def _apply(self, u: NDArray[np.float64], t: float) -> None:
@@ -253,7 +249,7 @@ class StaticSolver:
             raise ValueError("the checkpoint has no static load level (not a static run)")
         self.model.on_restore(state)
         self.lam = float(state["static_load_factor"][0])
-        self._factor = None
+        self.system.invalidate()
         self._set_loads(state, self.lam)
         self.model.evaluate(state, commit=False)
         self._pending = self._violations(state)
@@ -269,101 +265,6 @@ class StaticSolver:
         """N (a lower bound: events add solves)."""
         return self.load_steps
 
-    # -- linear algebra -------------------------------------------------------------------------
-    def _refactor(self, s: State) -> None:
-        """Assemble the tangent at ``s``, pin dofs without stiffness, factor K_ff."""
-        t0 = time.perf_counter()
-        k = sp.csr_matrix(self.model.tangent(s))
-        size = self.model.n_points * self.width
-        if k.shape != (size, size):
-            raise ValueError(f"the tangent has shape {k.shape}, expected ({size}, {size})")
-        diag = k.diagonal()
-        free_mask = ~self.fixed & (diag > 0)
-        pinned = (~self.fixed) & ~(diag > 0)
-        self.stats["pinned_points"] = int(len(np.unique(np.flatnonzero(pinned) // self.width)))
-        self._free = np.flatnonzero(free_mask)
-        self._free_pos = np.full(size, -1, dtype=np.int64)
-        self._free_pos[self._free] = np.arange(len(self._free))
-        k_ff = k[self._free][:, self._free].tocsr()
-        method = lin.choose(self.linear_solver, len(self._free))
-        self.linear_solver_used = method
-        if method == "direct":
-            t1 = time.perf_counter()
-            base = lin.DirectSolver(k_ff)
-            self._factor = lin.UpdatedDirect(base, len(self._free), time.perf_counter() - t1)
-        else:
-            modes = lin.rigid_modes(self.model.cloud.x, self.width)[self._free]
-            self._factor = lin.AMGSolver(k_ff, modes, rtol=0.01 * self.tolerance)
-            self._k0 = k_ff
-            self._amg_base_iterations = 0
-        self._removed = []
-        if isinstance(self._factor, lin.UpdatedDirect):
-            self._columns_before = int(self.stats["update_column_solves"])
-        self.stats["factorizations"] += 1
-        self.stats["factorization_s"] += time.perf_counter() - t0
-
-    def _linear_solve(
-        self, s: State, p: NDArray[np.float64], negligible: float = 0.0
-    ) -> NDArray[np.float64]:
-        """K_ff^-1 P_free (the Newton correction of the free dofs); a part of P outside
-        the dofs touched by broken bonds below ``negligible`` (N) may be left to the
-        next Newton iteration (:meth:`UpdatedDirect.solve`)."""
-        t0 = time.perf_counter()
-        if self._factor is None or not self.linear_model:
-            self._refactor(s)
-        f = self._factor
-        rhs = p[self._free]
-        if isinstance(f, lin.UpdatedDirect):
-            out = f.solve(rhs, negligible)
-        else:
-            if self._removed:
-                removed = sp.csr_matrix(sum(self._removed[1:], self._removed[0]))
-                out = f.solve_with(lambda x: self._k0 @ x - removed @ x, rhs)
-            else:
-                out = f.solve_with(self._k0, rhs)
-            if self._amg_base_iterations == 0:
-                self._amg_base_iterations = max(f.iterations, 1)
-            elif f.iterations > 2 * self._amg_base_iterations:
-                self._factor = None  # rebuild the hierarchy at the next solve
-        self.stats["linear_solve_s"] += time.perf_counter() - t0
-        return out
-
-    def _remove_pairs(self, s: State, bonds: NDArray[np.int64]) -> None:
-        """Tell the factorisation that the pairs ``bonds`` lost their stiffness."""
-        fm = self.model.force_model
-        if not (self.linear_model and self.reuse) or self._factor is None:
-            self._factor = None
-            return
-        b = self.model.bonds
-        w = self.width
-        comp = np.arange(w)
-        dofs = np.concatenate(
-            [b.bond_i[bonds, None] * w + comp, b.bond_j[bonds, None] * w + comp], axis=1
-        ).astype(np.int64)
-        local = self._free_pos[dofs]
-        blocks = fm.pair_stiffness(bonds)  # type: ignore[attr-defined]
-        f = self._factor
-        if isinstance(f, lin.UpdatedDirect):
-            if f.full or f.rank + local.size > f.max_rank:
-                self._factor = None  # refactor with these bonds gone
-                return
-            f.remove(local, blocks)
-            self.stats["update_column_solves"] = self._columns_before + f.column_solves
-        else:
-            m, p = local.shape
-            rows = np.broadcast_to(local[:, :, None], (m, p, p)).ravel()
-            cols = np.broadcast_to(local[:, None, :], (m, p, p)).ravel()
-            ok = (rows >= 0) & (cols >= 0)
-            n_free = len(self._free)
-            self._removed.append(
-                sp.coo_matrix((blocks.ravel()[ok], (rows[ok], cols[ok])), shape=(n_free, n_free))
-            )
-        # a point left without stiffness makes the system singular: refactor (pins it)
-        touched = np.unique(np.concatenate([b.bond_i[bonds], b.bond_j[bonds]]))
-        alive = np.add.reduceat(s.intact.astype(np.int64), b.offsets[:-1])
-        if np.any(alive[touched] == 0) and np.any(~self.fixed.reshape(-1, w)[touched].all(axis=1)):
-            self._factor = None
-
     # -- one solve ---------------------------------------------------------------------------
     def _equilibrium(self, s: State, lam: float) -> tuple[bool, int, float]:
         """Newton iterations at level lam from the current state."""
@@ -377,7 +278,7 @@ class StaticSolver:
         it = 0
         while True:
             p = self._unbalanced(s)
-            free = self._free if len(self._free) else np.flatnonzero(~self.fixed)
+            free = self.system.free if len(self.system.free) else np.flatnonzero(~self.fixed)
             ref = max(load, float(np.linalg.norm(p[self.fixed])), self._peak_ref, 1e-300)
             residual = float(np.linalg.norm(p[free])) / ref
             if not math.isfinite(residual):
@@ -387,9 +288,9 @@ class StaticSolver:
                 return True, it, residual
             if it >= self.max_iterations:
                 return False, it, residual
-            dq = self._linear_solve(s, p, 0.1 * self.tolerance * ref)
+            dq = self.system.solve(s, p, 0.1 * self.tolerance * ref)
             q = self._gather(s).reshape(-1)
-            q[self._free] += dq
+            q[self.system.free] += dq
             self._scatter(q.reshape(-1, self.width), s)
             self.model.evaluate(s, commit=False)
             it += 1
@@ -435,7 +336,7 @@ class StaticSolver:
             s.intact[both] = 0
             broken = len(both)
             s.bonds_broken += broken
-            self._remove_pairs(s, pairs)
+            self.system.remove_pairs(s, pairs)
             self.stats["events"] += 1
             events.append("bonds_broken")
             target = self.lam
@@ -551,7 +452,7 @@ class StaticSolver:
             "cutbacks": int(st["cutbacks"]),
             "breaking_events": events,
             "breaking_scheme": self.scheme,
-            "linear_solver": self.linear_solver_used or self.linear_solver,
+            "linear_solver": self.system.method_used or self.linear_solver,
             "factorizations": int(st["factorizations"]),
             "factorization_s": float(st["factorization_s"]),
             "update_column_solves": int(st["update_column_solves"]),
