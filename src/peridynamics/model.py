@@ -350,13 +350,13 @@ class Model:
     def state_energies(self, s: State) -> tuple[float, float]:
         """(kinetic, strain) energy (J) of a State, rotations included, over ranks."""
         fm = self.force_model
-        w = fm.energy_density(s) if "theta" in s else None
-        if w is None:
+        groups = fm.dofs()
+        if len(groups) == 1:  # displacement only: the energy of (u, intact)
             strain = self.strain_energy(s.u, s.intact)
-        else:
-            strain = self.comm.sum(float(np.sum(w * self.cloud.volume)))
+        else:  # further dof groups (rotations) live in the State
+            strain = self.comm.sum(float(np.sum(fm.energy_density(s) * self.cloud.volume)))
         kinetic = self.kinetic_energy(s.v)
-        for k, dof in enumerate(fm.dofs()[1:], start=1):
+        for k, dof in enumerate(groups[1:], start=1):
             rate = s[dof.rate]
             local = 0.5 * np.sum(self.inertia(k) * self.cloud.volume * np.sum(rate * rate, axis=1))
             kinetic += self.comm.sum(float(local))

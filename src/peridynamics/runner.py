@@ -189,43 +189,23 @@ def build_solver(
 
 
 def build_static(s: Any, model: Model, kin: list, init: list) -> Solver:
-    """The implicit static solver from ``solver: {type: static, ...}``."""
+    """The implicit static solver from ``solver: {type: static, ...}`` (every key of the
+    section is a keyword of :class:`~peridynamics.solvers.newton.StaticSolver`)."""
     from peridynamics.solvers.newton import StaticSolver
 
     if init:
         raise ValueError("initial velocities have no meaning in a static run")
-    return StaticSolver(
-        model,
-        constraints=kin,
-        load_steps=s.load_steps,
-        tolerance=s.tolerance,
-        max_iterations=s.max_iterations,
-        max_cutbacks=s.max_cutbacks,
-        proportional=s.proportional,
-        linear_solver=s.linear_solver,
-        breaking=s.breaking,
-        bonds_per_event=s.bonds_per_event,
-        event_driven=s.event_driven,
-        reuse_factorization=s.reuse_factorization,
-        max_solves=s.max_solves,
-    )
+    return StaticSolver(model, constraints=kin, **s.model_dump(exclude={"type"}))
 
 
 def build_adr(s: Any, model: Model, kin: list, init: list) -> Solver:
-    """Adaptive dynamic relaxation from ``solver: {type: adr, ...}``."""
+    """Adaptive dynamic relaxation from ``solver: {type: adr, ...}`` (every key of the
+    section is a keyword of :class:`~peridynamics.solvers.adr.ADRSolver`)."""
     from peridynamics.solvers.adr import ADRSolver
 
     if init:
         raise ValueError("initial velocities have no meaning in a static (adr) run")
-    return ADRSolver(
-        model,
-        constraints=kin,
-        load_steps=s.load_steps,
-        tolerance=s.tolerance,
-        max_iterations=s.max_iterations,
-        proportional=s.proportional,
-        max_damage_rounds=s.max_damage_rounds,
-    )
+    return ADRSolver(model, constraints=kin, **s.model_dump(exclude={"type"}))
 
 
 def time_function(spec: Any) -> tf.TimeFunction:

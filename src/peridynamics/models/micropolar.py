@@ -90,6 +90,7 @@ class MicropolarForceModel(ForceModel):
         self.bonds = bonds
         self.inv_length = bonds.inv_length
         self.weight = np.ascontiguousarray(bonds.bond_volume * bonds.bond_correction)
+        self._bounds: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
 
     # -- degrees of freedom ---------------------------------------------------------------
     def dofs(self) -> tuple[Dof, ...]:
@@ -134,6 +135,12 @@ class MicropolarForceModel(ForceModel):
 
     # -- bounds and tangent -----------------------------------------------------------------
     def _row_sums(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The bounds of both dof groups, computed once (the undamaged model's)."""
+        if self._bounds is None:
+            self._bounds = self._gershgorin()
+        return self._bounds
+
+    def _gershgorin(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Gershgorin row sums of the mass-scaled undamaged stiffness M^-1/2 K M^-1/2,
         per point, in the units of the :meth:`stiffness_bound` contract: translational
         rows (N/m^4) and rotational rows (N/m^2), with the rotation measured by the
