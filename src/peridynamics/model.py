@@ -57,8 +57,9 @@ class Model:
         :class:`~peridynamics.materials.bond_based.BondBasedMaterial` (PMB) or
         :class:`~peridynamics.materials.lps.LPSMaterial` (LPS); its ``youngs_modulus``
         and ``density`` are read by the extras.
-    damage : CriticalStretch
-        ``NO_DAMAGE`` keeps every bond.
+    damage : CriticalStretch or CorrespondenceFailure
+        Failure criterion with a ``law(x, bonds)`` method; ``NO_DAMAGE`` keeps every
+        bond.
     body_forces : sequence of BodyForce
         Force-like loads (body forces, tractions spread over a layer).
     surface_correction : bool
@@ -83,7 +84,7 @@ class Model:
     cloud: PointCloud
     bonds: Bonds
     material: Any
-    damage: CriticalStretch = NO_DAMAGE
+    damage: Any = NO_DAMAGE
     body_forces: Sequence[BodyForce] = ()
     surface_correction: bool = False
     viscosity: BondViscosity | None = None
@@ -100,6 +101,9 @@ class Model:
         self.force_model = self.material.force_model(c, self.bonds, self.surface_correction)
         self.bonds = self.force_model.bonds  # with the surface-correction factors
         self.damage_law = self.damage.law(c.x, self.bonds)
+        bind = getattr(self.damage_law, "bind", None)
+        if bind is not None:  # a law that reads the force model (stresses, shape tensors)
+            bind(self.force_model)
         self.inv_length = self.bonds.inv_length
         self.density = np.full(c.n_points, self.material.density)
         if not (np.isfinite(self.damping) and self.damping >= 0):

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import signal
 import threading
 import time
@@ -363,6 +364,15 @@ def build_material(m: Any) -> Any:
     try:
         if isinstance(m, dk.LPSMaterialSpec):
             return MATERIALS["lps"](m.youngs_modulus, m.poisson_ratio, m.density, m.influence)
+        if isinstance(m, dk.CorrespondenceMaterialSpec):
+            return MATERIALS["correspondence"](
+                m.youngs_modulus,
+                m.poisson_ratio,
+                m.density,
+                m.stabilization,
+                1.0 if m.stabilization_g is None else m.stabilization_g,
+                m.law,
+            )
         if isinstance(m, dk.MicropolarMaterialSpec):
             return MATERIALS["micropolar"](
                 m.youngs_modulus, m.poisson_ratio, m.density, m.rotational_stiffness_ratio
@@ -379,11 +389,14 @@ def build_model(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, body: list) -> M
     material = build_material(deck.material)
     m = deck.material
     dmg = deck.damage
+    damage: Any
     if dmg.model == "none":
         damage = NO_DAMAGE
     else:
         s0 = dmg.critical_stretch
-        if s0 is None:
+        if dmg.model == "principal_stress":
+            s0 = math.inf
+        elif s0 is None:
             assert dmg.fracture_energy is not None
             s0 = material.critical_stretch(
                 dmg.fracture_energy, cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
@@ -396,6 +409,11 @@ def build_model(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, body: list) -> M
         w = dmg.weibull
         weibull = None if w is None else WeibullField(w.shape, w.seed, w.variable, w.u0_is)
         damage = CriticalStretch(s0, no_fail, weibull)
+        if isinstance(m, dk.CorrespondenceMaterialSpec):
+            from peridynamics.damage.principal_stress import CorrespondenceFailure
+
+            f_t = dmg.tensile_strength
+            damage = CorrespondenceFailure(damage, math.inf if f_t is None else f_t)
     sed = dmg.sed_softening
     softening = (
         None

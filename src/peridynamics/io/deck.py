@@ -290,12 +290,38 @@ class MicropolarMaterialSpec(Strict):
     rotational_stiffness_ratio: NonNegFloat = 1.0 / 12.0
 
 
+class CorrespondenceMaterialSpec(Strict):
+    """Correspondence (non-ordinary state-based) material (``model: correspondence``;
+    2-D and 3-D): deformation gradient, a classical stress law and zero-energy-mode
+    control (PD zero-energy modes (n.d.); Silling 2017). ``stabilization``: ``lbscmm``
+    (default, parameter-free), ``silling2017`` (penalty ``stabilization_g``,
+    dimensionless: Silling's G over the horizon volume, default 1) or ``none``."""
+
+    model: Literal["correspondence"]
+    youngs_modulus: PosFloat
+    density: PosFloat
+    poisson_ratio: Annotated[float, Field(gt=-1.0, lt=0.5, allow_inf_nan=False), _Num] = 0.25
+    stabilization: Literal["lbscmm", "silling2017", "none"] = "lbscmm"
+    stabilization_g: PosFloat | None = None
+    law: Literal["st_venant_kirchhoff", "linear_elastic"] = "st_venant_kirchhoff"
+
+    @model_validator(mode="after")
+    def _g_only_for_silling(self) -> CorrespondenceMaterialSpec:
+        if self.stabilization_g is not None and self.stabilization != "silling2017":
+            raise ValueError(
+                "[stabilization_g] is the penalty of stabilization 'silling2017'; remove it "
+                f"or set stabilization: silling2017 (got {self.stabilization!r})"
+            )
+        return self
+
+
 #: the registry of model families: deck name -> schema of its material section
 MATERIAL_SCHEMAS: dict[str, type[Strict]] = {
     "pmb": Material,
     "bond_based": Material,
     "lps": LPSMaterialSpec,
     "micropolar": MicropolarMaterialSpec,
+    "correspondence": CorrespondenceMaterialSpec,
 }
 
 
@@ -312,7 +338,8 @@ AnyMaterial = Annotated[
     Annotated[Material, Tag("pmb")]
     | Annotated[Material, Tag("bond_based")]
     | Annotated[LPSMaterialSpec, Tag("lps")]
-    | Annotated[MicropolarMaterialSpec, Tag("micropolar")],
+    | Annotated[MicropolarMaterialSpec, Tag("micropolar")]
+    | Annotated[CorrespondenceMaterialSpec, Tag("correspondence")],
     Discriminator(_tag("pmb", "model")),
 ]
 
@@ -337,11 +364,15 @@ class SEDSofteningSpec(Strict):
 
 
 class Damage(Strict):
-    """Bond breaking."""
+    """Bond breaking: ``critical_stretch`` (s0 or fracture_energy; with
+    ``tensile_strength`` too, a bond breaks at whichever comes first),
+    ``principal_stress`` (``tensile_strength`` only: the mean of the two points' largest
+    principal stresses, correspondence models) or ``none``."""
 
-    model: Literal["critical_stretch", "none"] = "critical_stretch"
+    model: Literal["critical_stretch", "principal_stress", "none"] = "critical_stretch"
     critical_stretch: PosFloat | None = None
     fracture_energy: PosFloat | None = None
+    tensile_strength: PosFloat | None = None
     no_fail: list[str] = []
     weibull: WeibullSpec | None = None
     sed_softening: SEDSofteningSpec | None = None
@@ -352,6 +383,20 @@ class Damage(Strict):
             if self.critical_stretch is not None or self.fracture_energy is not None:
                 raise ValueError(
                     "[model] model 'none' takes neither critical_stretch nor fracture_energy"
+                )
+            if self.tensile_strength is not None:
+                raise ValueError("[tensile_strength] has no effect with model 'none'; remove it")
+            if self.weibull is not None or self.sed_softening is not None:
+                raise ValueError("[model] weibull and sed_softening need model 'critical_stretch'")
+        elif self.model == "principal_stress":
+            if self.tensile_strength is None:
+                raise ValueError(
+                    "[tensile_strength] model 'principal_stress' needs tensile_strength (f_t, Pa)"
+                )
+            if self.critical_stretch is not None or self.fracture_energy is not None:
+                raise ValueError(
+                    "[model] model 'principal_stress' uses tensile_strength only; for both "
+                    "criteria use model 'critical_stretch' with tensile_strength"
                 )
             if self.weibull is not None or self.sed_softening is not None:
                 raise ValueError("[model] weibull and sed_softening need model 'critical_stretch'")
@@ -941,6 +986,23 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
                     "shear spring would be negative); use <= 0.25, plane stress or model lps",
                 )
             )
+        if deck.damage.sed_softening is not None:
+            errors.append(
+                ("damage.sed_softening", "softens bond stiffness: needs material.model pmb")
+            )
+    if deck.damage.tensile_strength is not None and not isinstance(
+        mat, CorrespondenceMaterialSpec
+    ):
+        errors.append(
+            (
+                "damage.tensile_strength",
+                "the principal-stress criterion reads the stress tensor of a correspondence "
+                "model: use material.model correspondence, or a critical stretch",
+            )
+        )
+    if isinstance(mat, CorrespondenceMaterialSpec):
+        if dim == 1:
+            errors.append(("material.model", "correspondence is a 2-D / 3-D model"))
         if deck.damage.sed_softening is not None:
             errors.append(
                 ("damage.sed_softening", "softens bond stiffness: needs material.model pmb")

@@ -17,12 +17,19 @@ def _micropolar(*args: object, **kw: object) -> object:
     return MicropolarMaterial(*args, **kw)  # type: ignore[arg-type]
 
 
+def _correspondence(*args: object, **kw: object) -> object:
+    from peridynamics.materials.correspondence import CorrespondenceMaterial
+
+    return CorrespondenceMaterial(*args, **kw)  # type: ignore[arg-type]
+
+
 #: the registry of model families: ``material.model`` -> material class (or factory)
 MATERIALS: dict[str, Any] = {
     "pmb": BondBasedMaterial,
     "bond_based": BondBasedMaterial,
     "lps": _lps,
     "micropolar": _micropolar,
+    "correspondence": _correspondence,
 }
 
 __all__ = ["MATERIALS", "PROFILES", "BondBasedMaterial", "fixed_poisson_ratio"]

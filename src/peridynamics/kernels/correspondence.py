@@ -1,0 +1,409 @@
+"""Correspondence (non-ordinary state-based) kernels, 2-D and 3-D.
+
+Every Numba kernel here has a NumPy twin in
+:mod:`peridynamics.kernels.reference_correspondence` that the tests compare against. The
+kernels gather over each point's family in the directed CSR bond list and each point
+writes only its own rows (no atomics); per-point inputs (``amat``, ``fgrad``,
+``stab``) are read at the far end of a bond too and must be valid for every row
+(ghosts included).
+
+Notation (per directed bond k = (i, j)): reference bond ``xi = bond_xi[k]`` (m), its
+length ``L``, deformed bond ``y = xi + u_j - u_i``, weight ``w_k = mu_k beta_k V_j``
+(m^3: the influence function omega = mu_k, 1 intact / 0 broken, times the partial
+volume). Equations (PD zero-energy modes (n.d.), eqs 3, 5, 6, 16, 23-25):
+
+* shape tensor      K_i = sum_k w_k xi (x) xi                           (m^5)
+* deformation grad. F_i = (sum_k w_k y (x) xi) K_i^-1
+* non-uniform part  z_ik = y_k - F_i xi_k
+* force state       T_i<xi> = A_i xi + (stabilisation), A_i = (P_i - sigma^s_i) K_i^-1
+* force density     f_i = sum_k w_k (T_i<xi_k> - T_j<-xi_k>)             (N/m^3)
+
+Stabilisation (``mode``; per-point coefficient ``stab_i``, 0 on a degenerate point):
+
+* 0 none: ``T_i<xi> = A_i xi``;
+* 1 Silling (2017): ``+ stab_i z_ik`` with ``stab_i = G C / omega_0,i`` (N/m^9);
+* 2 LBSCMM: ``+ stab_i (xi . z_ik) xi / L^3`` with ``stab_i = c / 2`` (N/m^6) and
+  ``sigma^s_i = stab_i sum_k w_k (xi . z_ik) xi (x) xi / L^3`` (Pa).
+
+In the pair form ``T_i<xi> - T_j<-xi> = (A_i + A_j) xi + stab_i z_i + stab_j z_j``
+(Silling) or ``+ (stab_i xi.z_i + stab_j xi.z_j) xi / L^3`` (LBSCMM), with ``z_j = y -
+F_j xi`` the deviation of the same bond from the far point's deformation.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange
+
+#: hot loops: fast-math lets LLVM vectorise the family sums
+_hot = njit(parallel=True, fastmath=True, error_model="numpy", cache=True)
+#: diagnostics: no fast-math, reproducible bits
+_exact = njit(parallel=True, fastmath=False, cache=True)
+
+MODE_NONE = 0
+MODE_SILLING = 1
+MODE_LBSCMM = 2
+
+
+@njit(inline="always")
+def _invert_in_place(m, i, d):
+    """Invert the (d, d) block m[i] in place (d = 2 or 3); returns its determinant."""
+    if d == 2:
+        a, b, c, e = m[i, 0, 0], m[i, 0, 1], m[i, 1, 0], m[i, 1, 1]
+        det = a * e - b * c
+        if det > 0.0:
+            s = 1.0 / det
+            m[i, 0, 0] = e * s
+            m[i, 0, 1] = -b * s
+            m[i, 1, 0] = -c * s
+            m[i, 1, 1] = a * s
+        return det
+    a00, a01, a02 = m[i, 0, 0], m[i, 0, 1], m[i, 0, 2]
+    a10, a11, a12 = m[i, 1, 0], m[i, 1, 1], m[i, 1, 2]
+    a20, a21, a22 = m[i, 2, 0], m[i, 2, 1], m[i, 2, 2]
+    c00 = a11 * a22 - a12 * a21
+    c01 = a12 * a20 - a10 * a22
+    c02 = a10 * a21 - a11 * a20
+    det = a00 * c00 + a01 * c01 + a02 * c02
+    if det > 0.0:
+        s = 1.0 / det
+        m[i, 0, 0] = c00 * s
+        m[i, 1, 0] = c01 * s
+        m[i, 2, 0] = c02 * s
+        m[i, 0, 1] = (a02 * a21 - a01 * a22) * s
+        m[i, 1, 1] = (a00 * a22 - a02 * a20) * s
+        m[i, 2, 1] = (a01 * a20 - a00 * a21) * s
+        m[i, 0, 2] = (a01 * a12 - a02 * a11) * s
+        m[i, 1, 2] = (a02 * a10 - a00 * a12) * s
+        m[i, 2, 2] = (a00 * a11 - a01 * a10) * s
+    return det
+
+
+@_exact
+def shape_determinant(bond_xi, offsets, wv, intact, out):
+    """det K_i of every family (m^(5 d)), shape (n,): the reference against which a
+    damaged family is judged degenerate.
+
+    Parameters
+    ----------
+    bond_xi : (n_bonds, d) reference bonds (m).
+    offsets : (n + 1,) CSR offsets.
+    wv : (n_bonds,) partial volume beta_k V_j (m^3).
+    intact : (n_bonds,) uint8.
+    out : (>= n,) output.
+    """
+    n = offsets.shape[0] - 1
+    d = bond_xi.shape[1]
+    for i in prange(n):
+        k00 = 0.0
+        k01 = 0.0
+        k02 = 0.0
+        k11 = 0.0
+        k12 = 0.0
+        k22 = 0.0
+        for k in range(offsets[i], offsets[i + 1]):
+            w = wv[k] * intact[k]
+            x0 = bond_xi[k, 0]
+            x1 = bond_xi[k, 1]
+            x2 = bond_xi[k, 2] if d == 3 else 0.0
+            k00 += w * x0 * x0
+            k01 += w * x0 * x1
+            k02 += w * x0 * x2
+            k11 += w * x1 * x1
+            k12 += w * x1 * x2
+            k22 += w * x2 * x2
+        if d == 2:
+            out[i] = k00 * k11 - k01 * k01
+        else:
+            out[i] = (
+                k00 * (k11 * k22 - k12 * k12)
+                - k01 * (k01 * k22 - k12 * k02)
+                + k02 * (k01 * k12 - k11 * k02)
+            )
+
+
+@_hot
+def prepass(
+    bond_xi, length, u, offsets, bond_j, wv, intact, det_ref, degenerate_ratio, mode, stab,
+    kinv, fgrad, sigma_s, omega0, active,
+):  # fmt: skip
+    """Shape tensor inverse, deformation gradient and (LBSCMM) sigma^s of every point.
+
+    Parameters
+    ----------
+    bond_xi : (n_bonds, d) reference bonds (m); length : (n_bonds,) |xi| (m).
+    u : (n_all, d) displacement (m).
+    offsets : (n + 1,) CSR offsets; bond_j, wv (m^3), intact : (n_bonds,).
+    det_ref : (n,) det K_i of the reference family.
+    degenerate_ratio : float
+        A family with ``det K_i <= degenerate_ratio * det_ref_i`` (or det K_i <= 0) is
+        degenerate: K^-1 = 0, F = I, ``active_i = 0``.
+    mode : int, 0 none, 1 Silling, 2 LBSCMM.
+    stab : (n,) stabilisation coefficient of every point (read for mode 2).
+    kinv, fgrad, sigma_s : (n_all, d, d) outputs K_i^-1 (1/m^5), F_i, sigma^s_i (Pa;
+        zero unless mode 2); rows ``0..n-1`` are written.
+    omega0 : (n_all,) output sum_k w_k (m^3).
+    active : (n_all,) output 1.0 for a regular family, 0.0 for a degenerate one.
+    """
+    n = offsets.shape[0] - 1
+    d = u.shape[1]
+    for i in prange(n):
+        for a in range(d):
+            for b in range(d):
+                kinv[i, a, b] = 0.0
+                fgrad[i, a, b] = 0.0
+                sigma_s[i, a, b] = 0.0
+        om = 0.0
+        for k in range(offsets[i], offsets[i + 1]):
+            w = wv[k] * intact[k]
+            if w == 0.0:
+                continue
+            j = bond_j[k]
+            om += w
+            for a in range(d):
+                ya = bond_xi[k, a] + u[j, a] - u[i, a]
+                for b in range(d):
+                    xb = w * bond_xi[k, b]
+                    kinv[i, a, b] += bond_xi[k, a] * xb
+                    fgrad[i, a, b] += ya * xb
+        omega0[i] = om
+        det = _invert_in_place(kinv, i, d)
+        if not (det > degenerate_ratio * det_ref[i]) or not (det > 0.0):
+            active[i] = 0.0
+            for a in range(d):
+                for b in range(d):
+                    kinv[i, a, b] = 0.0
+                    fgrad[i, a, b] = 1.0 if a == b else 0.0
+            continue
+        active[i] = 1.0
+        # F = N K^-1, row by row through a small stack of d values
+        for a in range(d):
+            r0 = fgrad[i, a, 0]
+            r1 = fgrad[i, a, 1]
+            r2 = fgrad[i, a, 2] if d == 3 else 0.0
+            for b in range(d):
+                v = r0 * kinv[i, 0, b] + r1 * kinv[i, 1, b]
+                if d == 3:
+                    v += r2 * kinv[i, 2, b]
+                fgrad[i, a, b] = v
+        if mode == 2:
+            s = stab[i]
+            for k in range(offsets[i], offsets[i + 1]):
+                w = wv[k] * intact[k]
+                if w == 0.0:
+                    continue
+                j = bond_j[k]
+                xz = 0.0
+                for a in range(d):
+                    za = bond_xi[k, a] + u[j, a] - u[i, a]
+                    for b in range(d):
+                        za -= fgrad[i, a, b] * bond_xi[k, b]
+                    xz += bond_xi[k, a] * za
+                lk = length[k]
+                g = s * w * xz / (lk * lk * lk)
+                for a in range(d):
+                    for b in range(d):
+                        sigma_s[i, a, b] += g * bond_xi[k, a] * bond_xi[k, b]
+
+
+@_hot
+def force(
+    bond_xi, length, u, offsets, bond_j, wv, intact, amat, fgrad, stab, mode, out, max_stretch
+):  # fmt: skip
+    """Correspondence force density f_i = sum_k w_k (T_i<xi_k> - T_j<-xi_k>) (N/m^3).
+
+    Parameters
+    ----------
+    bond_xi, length, u, offsets, bond_j, wv, intact : as :func:`prepass`.
+    amat : (n_all, d, d) A_i = (P_i - sigma^s_i) K_i^-1 (N/m^5 / m^... : Pa/m^5).
+    fgrad : (n_all, d, d) deformation gradients.
+    stab : (n_all,) stabilisation coefficients (0 on degenerate points).
+    mode : int, 0 none, 1 Silling, 2 LBSCMM.
+    out : (n_all, d) output force density; rows ``0..n-1`` are written.
+    max_stretch : (n_all,) output, the largest (|y| - L) / L over intact bonds (0 if none
+        is stretched).
+    """
+    n = offsets.shape[0] - 1
+    d = u.shape[1]
+    for i in prange(n):
+        f0 = 0.0
+        f1 = 0.0
+        f2 = 0.0
+        smax = 0.0
+        si = stab[i]
+        for k in range(offsets[i], offsets[i + 1]):
+            w = wv[k] * intact[k]
+            if w == 0.0:
+                continue
+            j = bond_j[k]
+            sj = stab[j]
+            lk = length[k]
+            x0 = bond_xi[k, 0]
+            x1 = bond_xi[k, 1]
+            x2 = bond_xi[k, 2] if d == 3 else 0.0
+            y0 = x0 + u[j, 0] - u[i, 0]
+            y1 = x1 + u[j, 1] - u[i, 1]
+            y2 = x2 + u[j, 2] - u[i, 2] if d == 3 else 0.0
+            if d == 2:
+                t0 = (amat[i, 0, 0] + amat[j, 0, 0]) * x0 + (amat[i, 0, 1] + amat[j, 0, 1]) * x1
+                t1 = (amat[i, 1, 0] + amat[j, 1, 0]) * x0 + (amat[i, 1, 1] + amat[j, 1, 1]) * x1
+                t2 = 0.0
+                if mode != 0:
+                    zi0 = y0 - fgrad[i, 0, 0] * x0 - fgrad[i, 0, 1] * x1
+                    zi1 = y1 - fgrad[i, 1, 0] * x0 - fgrad[i, 1, 1] * x1
+                    zj0 = y0 - fgrad[j, 0, 0] * x0 - fgrad[j, 0, 1] * x1
+                    zj1 = y1 - fgrad[j, 1, 0] * x0 - fgrad[j, 1, 1] * x1
+                    if mode == 1:
+                        t0 += si * zi0 + sj * zj0
+                        t1 += si * zi1 + sj * zj1
+                    else:
+                        g = (si * (x0 * zi0 + x1 * zi1) + sj * (x0 * zj0 + x1 * zj1)) / (
+                            lk * lk * lk
+                        )
+                        t0 += g * x0
+                        t1 += g * x1
+                r = np.sqrt(y0 * y0 + y1 * y1)
+            else:
+                t0 = 0.0
+                t1 = 0.0
+                t2 = 0.0
+                for b in range(3):
+                    xb = bond_xi[k, b]
+                    t0 += (amat[i, 0, b] + amat[j, 0, b]) * xb
+                    t1 += (amat[i, 1, b] + amat[j, 1, b]) * xb
+                    t2 += (amat[i, 2, b] + amat[j, 2, b]) * xb
+                if mode != 0:
+                    zi0 = y0
+                    zi1 = y1
+                    zi2 = y2
+                    zj0 = y0
+                    zj1 = y1
+                    zj2 = y2
+                    for b in range(3):
+                        xb = bond_xi[k, b]
+                        zi0 -= fgrad[i, 0, b] * xb
+                        zi1 -= fgrad[i, 1, b] * xb
+                        zi2 -= fgrad[i, 2, b] * xb
+                        zj0 -= fgrad[j, 0, b] * xb
+                        zj1 -= fgrad[j, 1, b] * xb
+                        zj2 -= fgrad[j, 2, b] * xb
+                    if mode == 1:
+                        t0 += si * zi0 + sj * zj0
+                        t1 += si * zi1 + sj * zj1
+                        t2 += si * zi2 + sj * zj2
+                    else:
+                        g = (
+                            si * (x0 * zi0 + x1 * zi1 + x2 * zi2)
+                            + sj * (x0 * zj0 + x1 * zj1 + x2 * zj2)
+                        ) / (lk * lk * lk)
+                        t0 += g * x0
+                        t1 += g * x1
+                        t2 += g * x2
+                r = np.sqrt(y0 * y0 + y1 * y1 + y2 * y2)
+            f0 += w * t0
+            f1 += w * t1
+            f2 += w * t2
+            s = (r - lk) / lk
+            if s > smax:
+                smax = s
+        out[i, 0] = f0
+        out[i, 1] = f1
+        if d == 3:
+            out[i, 2] = f2
+        max_stretch[i] = smax
+
+
+@_exact
+def stabilization_energy(bond_xi, length, u, offsets, bond_j, wv, intact, fgrad, stab, mode, out):
+    """Energy density of the stabilisation of every point (J/m^3), shape (n,):
+    Silling ``stab_i / 2 sum_k w_k |z_ik|^2``, LBSCMM ``stab_i / 2 sum_k w_k
+    (xi . z_ik)^2 / L^3``; 0 for mode 0. Arguments as :func:`force`."""
+    n = offsets.shape[0] - 1
+    d = u.shape[1]
+    for i in prange(n):
+        acc = 0.0
+        if mode != 0:
+            for k in range(offsets[i], offsets[i + 1]):
+                w = wv[k] * intact[k]
+                if w == 0.0:
+                    continue
+                j = bond_j[k]
+                zz = 0.0
+                xz = 0.0
+                for a in range(d):
+                    za = bond_xi[k, a] + u[j, a] - u[i, a]
+                    for b in range(d):
+                        za -= fgrad[i, a, b] * bond_xi[k, b]
+                    zz += za * za
+                    xz += bond_xi[k, a] * za
+                if mode == 1:
+                    acc += w * zz
+                else:
+                    lk = length[k]
+                    acc += w * xz * xz / (lk * lk * lk)
+        out[i] = 0.5 * stab[i] * acc
+
+
+LAW_SVK = 0
+LAW_LINEAR = 1
+
+
+@_hot
+def force_tensor(fgrad, kinv, sigma_s, active, lame, shear, law, strain, amat):
+    """A_i = (P(F_i) - sigma^s_i) K_i^-1 of the built-in laws, every owned point.
+
+    Parameters
+    ----------
+    fgrad, kinv, sigma_s : (n_all, d, d) from :func:`prepass`.
+    active : (n_all,) 1.0 regular, 0.0 degenerate (A = 0).
+    lame, shear : float, lambda' and mu (Pa).
+    law : int, LAW_SVK (Green strain, P = F S) or LAW_LINEAR (sym(F - I), P = sigma).
+    strain : (n_all, d, d) scratch: the stress S (SVK) or sigma (linear) on return.
+    amat : (n_all, d, d) output; rows ``0..n-1`` of ``fgrad.shape[0]`` are written.
+    """
+    n = fgrad.shape[0]
+    d = fgrad.shape[1]
+    for i in prange(n):
+        if active[i] == 0.0:
+            for a in range(d):
+                for b in range(d):
+                    amat[i, a, b] = 0.0
+                    strain[i, a, b] = 0.0
+            continue
+        tr = 0.0
+        for a in range(d):
+            for b in range(d):
+                if law == 0:
+                    e = 0.0
+                    for c in range(d):
+                        e += fgrad[i, c, a] * fgrad[i, c, b]
+                    e *= 0.5
+                else:
+                    e = 0.5 * (fgrad[i, a, b] + fgrad[i, b, a])
+                if a == b:
+                    e -= 0.5 if law == 0 else 1.0
+                    tr += e
+                strain[i, a, b] = e
+        for a in range(d):
+            for b in range(d):
+                strain[i, a, b] *= 2.0 * shear
+            strain[i, a, a] += lame * tr
+        # P - sigma^s into amat (as a scratch), then times K^-1 row by row
+        for a in range(d):
+            for b in range(d):
+                if law == 0:
+                    p = 0.0
+                    for c in range(d):
+                        p += fgrad[i, a, c] * strain[i, c, b]
+                else:
+                    p = strain[i, a, b]
+                amat[i, a, b] = p - sigma_s[i, a, b]
+        for a in range(d):
+            r0 = amat[i, a, 0]
+            r1 = amat[i, a, 1]
+            r2 = amat[i, a, 2] if d == 3 else 0.0
+            for b in range(d):
+                v = r0 * kinv[i, 0, b] + r1 * kinv[i, 1, b]
+                if d == 3:
+                    v += r2 * kinv[i, 2, b]
+                amat[i, a, b] = v

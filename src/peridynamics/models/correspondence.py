@@ -1,0 +1,314 @@
+"""Correspondence (non-ordinary state-based) peridynamics, 2-D and 3-D, with
+zero-energy-mode control.
+
+Silling et al. (2007), section 15 (the correspondence material model); the force state
+and its stabilisations follow PD zero-energy modes (n.d.): eqs 1-6 (model), eq. 16
+(Silling 2017) and eqs 17-25 (the linearised-bond stabilised correspondence model,
+LBSCMM). The kernels are :mod:`peridynamics.kernels.correspondence` (NumPy twins in
+:mod:`peridynamics.kernels.reference_correspondence`); equations, the stiffness bound
+and the measured accuracy: docs/theory_correspondence.md.
+
+Conventions
+-----------
+* Influence function omega = 1 for an intact bond, 0 for a broken one (eq. 12), times
+  the partial volume of the bond list (``bonds.bond_volume``), consistently in K, F and
+  the force sum.
+* The pre-pass (:meth:`CorrespondenceForceModel.prepass`) writes the deformation
+  gradient ``F`` (``state["deformation_gradient"]``, (n, d*d) row-major), the force
+  tensor ``A = (P - sigma^s) K^-1`` (``state["force_tensor"]``) and the stabilisation
+  coefficient (``state["stabilization"]``) of every point; the force pass reads them
+  at both ends of each bond (a parallel run exchanges them for ghosts).
+* Broken bonds leave K and F (both are sums over the intact bonds). A family whose
+  shape tensor has lost nearly all of its extent, ``det K_i <= DEGENERATE_RATIO *
+  det K_i(reference)`` (or a singular K), is *degenerate*: the point has no force
+  state (K^-1 = 0, F = I, no stabilisation), its bonds carry only the force state of
+  their other end, and the damage laws break its remaining bonds (the point is then
+  fully damaged). No NaN can arise.
+* The deformation gradient is exact for every affine displacement at every point,
+  surfaces included (the patch test), so no surface correction is applied.
+* Every variant has a potential energy (hyperelastic law plus the quadratic
+  stabilisation energy), so the force is its exact gradient and the tangent is
+  symmetric.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, ClassVar
+
+import numpy as np
+from numpy.typing import NDArray
+
+from peridynamics.bonds.bonds import Bonds
+from peridynamics.geometry.cloud import PointCloud
+from peridynamics.kernels import correspondence as kernels
+from peridynamics.models.base import FieldSpec, ForceModel
+
+if TYPE_CHECKING:
+    from peridynamics.materials.correspondence import CorrespondenceMaterial
+    from peridynamics.state import State
+
+#: a family is degenerate when det K falls to this fraction of its reference value
+#: (2-D: e.g. the smaller principal moment down to 1 % with the larger one kept)
+DEGENERATE_RATIO = 1e-2
+_LAW_KERNELS = {"st_venant_kirchhoff": kernels.LAW_SVK, "linear_elastic": kernels.LAW_LINEAR}
+_MODES = {
+    "none": kernels.MODE_NONE,
+    "silling2017": kernels.MODE_SILLING,
+    "lbscmm": kernels.MODE_LBSCMM,
+}
+
+
+class CorrespondenceForceModel(ForceModel):
+    """Correspondence force model over a directed CSR bond list.
+
+    Parameters
+    ----------
+    cloud : PointCloud
+        2-D (plane stress or plane strain) or 3-D cloud.
+    bonds : Bonds
+        Bond list of ``cloud``.
+    material : CorrespondenceMaterial
+
+    Attributes
+    ----------
+    mode : int
+        0 none, 1 Silling (2017), 2 LBSCMM.
+    micromodulus : float
+        c of the LBSCMM bond (N/m^6), also the bond-based reference of the Silling
+        penalty C = c / delta.
+    det_reference : (n,) det K_i of the reference families (pre-cracked bonds out).
+    reach : int
+        The force of a point depends on the displacements up to 2 bonds away (the
+        deformation gradients of its neighbours), used by the finite-difference tangent.
+    """
+
+    name: ClassVar[str] = "correspondence"
+    reach: ClassVar[int] = 2
+
+    def __init__(self, cloud: PointCloud, bonds: Bonds, material: CorrespondenceMaterial) -> None:
+        if cloud.dim not in (2, 3):
+            raise ValueError("material.model correspondence is a 2-D / 3-D model")
+        self.cloud = cloud
+        self.bonds = bonds
+        self.material = material
+        d = cloud.dim
+        self.law = material.constitutive_law(d, cloud.plane)
+        self.mode = _MODES[material.stabilization]
+        thickness = cloud.cross_section if d == 2 else 1.0
+        self.micromodulus = material.micromodulus(d, bonds.horizon, thickness, cloud.plane)
+        self.silling_g = material.stabilization_g * material.horizon_volume(
+            d, bonds.horizon, thickness
+        )
+        self.weight = np.ascontiguousarray(bonds.bond_volume, dtype=np.float64)
+        self.bond_xi = np.ascontiguousarray(bonds.bond_xi, dtype=np.float64)
+        self.length = np.ascontiguousarray(bonds.bond_length, dtype=np.float64)
+        n_own = len(bonds.offsets) - 1
+        self.det_reference = np.empty(n_own)
+        kernels.shape_determinant(
+            self.bond_xi, bonds.offsets, self.weight, bonds.bond_intact, self.det_reference
+        )
+        self._stab_base = np.full(cloud.n_points, 0.5 * self.micromodulus)
+        self._bound: NDArray[np.float64] | None = None
+        self._scratch: tuple[NDArray[np.float64], ...] | None = None
+
+    # -- fields and passes ----------------------------------------------------------------
+    def state_fields(self) -> tuple[FieldSpec, ...]:
+        """F (n, d*d), A (n, d*d), the stabilisation coefficient (n,) and the
+        degenerate flag (n,), written by :meth:`prepass`."""
+        dd = self.dim * self.dim
+        return (
+            FieldSpec("deformation_gradient", components=dd),
+            FieldSpec("force_tensor", components=dd),
+            FieldSpec("stabilization"),
+            FieldSpec("family_active"),
+        )
+
+    def kinematics(
+        self, u: NDArray[np.float64], intact: NDArray[np.uint8]
+    ) -> tuple[NDArray[np.float64], ...]:
+        """(F, K^-1, sigma^s, omega_0, active, stab) of every owned point at ``u`` with
+        the bonds ``intact``: shapes (n, d, d) x 3, (n,) x 3 (a fresh computation, the
+        State is not touched)."""
+        b = self.bonds
+        n_all, d = u.shape
+        kinv = np.empty((n_all, d, d))
+        fgrad = np.empty((n_all, d, d))
+        sigma_s = np.empty((n_all, d, d))
+        omega0 = np.zeros(n_all)
+        active = np.zeros(n_all)
+        kernels.prepass(
+            self.bond_xi, self.length, u, b.offsets, b.bond_j, self.weight, intact,
+            self.det_reference, DEGENERATE_RATIO, self.mode, self._stab_base, kinv, fgrad,
+            sigma_s, omega0, active,
+        )  # fmt: skip
+        stab = self._stabilization(omega0, active)
+        return fgrad, kinv, sigma_s, omega0, active, stab
+
+    def prepass(self, state: State) -> None:
+        """F, A = (P - sigma^s) K^-1 and the stabilisation coefficient of every owned
+        point into the State (fields of :meth:`state_fields`, allocated when missing)."""
+        n_all, d = state.u.shape
+        for spec in self.state_fields():
+            if spec.name not in state:
+                shape = (n_all, spec.components) if spec.components else (n_all,)
+                state[spec.name] = np.zeros(shape)
+        if self._scratch is None or self._scratch[0].shape[0] != n_all:
+            self._scratch = tuple(np.zeros((n_all, d, d)) for _ in range(3)) + (
+                np.zeros(n_all),
+            )
+        kinv, sigma_s, work, omega0 = self._scratch
+        fgrad = self._tensor(state, "deformation_gradient")
+        amat = self._tensor(state, "force_tensor")
+        active = state["family_active"]
+        b = self.bonds
+        kernels.prepass(
+            self.bond_xi, self.length, state.u, b.offsets, b.bond_j, self.weight, state.intact,
+            self.det_reference, DEGENERATE_RATIO, self.mode, self._stab_base, kinv, fgrad,
+            sigma_s, omega0, active,
+        )  # fmt: skip
+        n = len(b.offsets) - 1
+        state["stabilization"][:n] = self._stabilization(omega0, active)[:n]
+        law_id = _LAW_KERNELS.get(self.law.name)
+        if law_id is not None:
+            kernels.force_tensor(
+                fgrad[:n], kinv[:n], sigma_s[:n], active[:n], self.law.lame, self.law.shear,
+                law_id, work[:n], amat[:n],
+            )  # fmt: skip
+        else:  # any other law through its NumPy interface
+            piola = self.law.first_piola(fgrad[:n]) * active[:n, None, None]
+            amat[:n] = np.einsum("nab,nbc->nac", piola - sigma_s[:n], kinv[:n])
+
+    def _stabilization(
+        self, omega0: NDArray[np.float64], active: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
+        """Per-point stabilisation coefficient (0 on degenerate points), shape like
+        ``active``: c/2 (LBSCMM), G C / omega_0 (Silling), 0 (none)."""
+        if self.mode == kernels.MODE_LBSCMM:
+            return np.asarray(active * self._stab_base[: len(active)])
+        if self.mode == kernels.MODE_SILLING:
+            c_pen = self.micromodulus / self.bonds.horizon
+            return np.divide(
+                active * self.silling_g * c_pen, omega0, out=np.zeros_like(omega0),
+                where=omega0 > 0,
+            )  # fmt: skip
+        return np.zeros_like(active)
+
+    def _tensor(self, state: State, name: str) -> NDArray[np.float64]:
+        """A (n_all, d*d) field of the State as a (n_all, d, d) view."""
+        n_all, d = state.u.shape
+        a = state[name]
+        if not a.flags.c_contiguous:
+            raise ValueError(f"state[{name!r}] must be C-contiguous")
+        return np.asarray(a.reshape(n_all, d, d))
+
+    def force(self, state: State) -> None:
+        """Correspondence force density (N/m^3) into ``state.force`` and the largest
+        tensile stretch of an intact bond into ``state.max_stretch``; reads the fields
+        of the last :meth:`prepass`. Pure: never breaks a bond."""
+        if "force_tensor" not in state:
+            raise KeyError(
+                "state has no 'force_tensor' field: call CorrespondenceForceModel.prepass("
+                "state) before force(state)"
+            )
+        b = self.bonds
+        kernels.force(
+            self.bond_xi, self.length, state.u, b.offsets, b.bond_j, self.weight, state.intact,
+            self._tensor(state, "force_tensor"), self._tensor(state, "deformation_gradient"),
+            state["stabilization"], self.mode, state.force, state.max_stretch,
+        )  # fmt: skip
+
+    def energy_density(self, state: State) -> NDArray[np.float64]:
+        """W_i = active_i W(F_i) + stabilisation energy (J/m^3), shape (n,), recomputed
+        from ``state.u`` and ``state.intact`` (the State is not changed)."""
+        b = self.bonds
+        n = len(b.offsets) - 1
+        fgrad, _, _, _, active, stab = self.kinematics(state.u, state.intact)
+        w = active[:n] * self.law.energy_density(fgrad[:n])
+        extra = np.empty(n)
+        kernels.stabilization_energy(
+            self.bond_xi, self.length, state.u, b.offsets, b.bond_j, self.weight, state.intact,
+            fgrad, stab, self.mode, extra,
+        )  # fmt: skip
+        return np.asarray(w + extra)
+
+    # -- stresses ---------------------------------------------------------------------------
+    def cauchy_stress(self, u: NDArray[np.float64], intact: NDArray[np.uint8]) -> NDArray:
+        """Cauchy stress sigma = P F^T / det F of every owned point (Pa), (n, d, d); zero
+        on a degenerate point. Plane stress: the in-plane components."""
+        n = len(self.bonds.offsets) - 1
+        fgrad, _, _, _, active, _ = self.kinematics(u, intact)
+        f = fgrad[:n]
+        piola = self.law.first_piola(f)
+        jac = np.linalg.det(f)
+        jac = np.where(jac > 0, jac, 1.0)
+        sigma = np.einsum("nab,ncb->nac", piola, f) / jac[:, None, None]
+        return np.asarray(sigma * active[:n, None, None])
+
+    def max_principal_stress(
+        self, u: NDArray[np.float64], intact: NDArray[np.uint8]
+    ) -> NDArray[np.float64]:
+        """Largest principal Cauchy stress of every owned point (Pa), shape (n,)."""
+        sigma = self.cauchy_stress(u, intact)
+        sym = 0.5 * (sigma + np.swapaxes(sigma, 1, 2))
+        if self.dim == 2:
+            a, b, c = sym[:, 0, 0], sym[:, 1, 1], sym[:, 0, 1]
+            return np.asarray(0.5 * (a + b) + np.sqrt(0.25 * (a - b) ** 2 + c * c))
+        return np.asarray(np.linalg.eigvalsh(sym)[:, -1])
+
+    # -- stiffness bound ------------------------------------------------------------------
+    def stiffness_bound(self) -> NDArray[np.float64]:
+        """Per-point bound K_i (N/m^4), shape (n,), such that ``dt = min_i sqrt(2 rho_i /
+        K_i)`` is a stable explicit step of the model linearised at the reference state.
+
+        Derivation (docs/theory_correspondence.md). With ``H_i = sum_k eta_k (x) g_k``,
+        ``g_k = w_k K_i^-1 xi_k``, the point energy of the constitutive law is at most
+        ``V_i c_C |H_i|^2 / 2`` (c_C the largest modulus of the elasticity tensor on
+        symmetric tensors) and, by Cauchy-Schwarz, ``|H_i|^2 <= G_i sum_k |g_k|
+        |eta_k|^2`` with ``G_i = sum_k |g_k|``; the Silling energy is at most
+        ``stab_i / 2 sum_k w_k |eta_k|^2`` (z is the least-squares residual of eta);
+        the LBSCMM energy, with ``(xi.z)^2 <= 2 (xi.eta)^2 + 2 (xi.H xi)^2``, at most
+        ``c/2 sum_k w_k |eta_k|^2 / L_k + |H_i|^2 c/2 sum_k w_k L_k``. Every term is a
+        bond-based form ``1/2 sum_k s_k |eta_k|^2``, and ``|eta|^2 <= 2 |u_i|^2 + 2
+        |u_j|^2`` gives ``u.K.u <= 2 sum_p D_p |u_p|^2`` with ``D_p`` the sum of s_k over
+        the bonds at p: ``K_p = D_p / V_p``.
+        """
+        if self._bound is None:
+            self._bound = self._bound_of_reference()
+        return self._bound.copy()
+
+    def _bound_of_reference(self) -> NDArray[np.float64]:
+        b = self.bonds
+        n = len(b.offsets) - 1
+        d = self.dim
+        intact = b.bond_intact
+        u0 = np.zeros((self.cloud.n_points, d))
+        _, kinv, _, _, active, stab = self.kinematics(u0, intact)
+        bi = b.bond_i.astype(np.intp)
+        bj = b.bond_j.astype(np.intp)
+        w = self.weight * intact
+        g = w[:, None] * np.einsum("kab,kb->ka", kinv[bi], self.bond_xi)
+        g_sum = np.zeros((n, d))
+        np.add.at(g_sum, bi, g)
+        gram = np.zeros((n, d, d))
+        np.add.at(gram, bi, g[:, :, None] * g[:, None, :])
+        lam_eta = np.linalg.eigvalsh(gram)[:, -1]
+        lam_u = np.linalg.eigvalsh(gram + g_sum[:, :, None] * g_sum[:, None, :])[:, -1]
+        n_fam = np.bincount(bi, w > 0, minlength=n)
+        vol = self.cloud.volume
+        cv = vol[:n] * self.law.max_modulus(d)
+        # two valid bounds of the point energy, the smaller (in trace) taken per point:
+        # (a) |H|^2 <= lam_eta sum_k |eta_k|^2 <= lam_eta sum_k 2 (|u_i|^2 + |u_j|^2)
+        # (b) |H|^2 <= lam_u (|u_i|^2 + sum_j |u_j|^2), H = sum_k u_j (x) g_k - u_i (x) sum g
+        use_b = lam_u <= 2.0 * lam_eta
+        to_self = np.where(use_b, cv * lam_u, 2.0 * n_fam * cv * lam_eta)
+        to_nbr = np.where(use_b, cv * lam_u, 2.0 * cv * lam_eta)
+        dsum = to_self + np.bincount(bj, to_nbr[bi] * (w > 0), minlength=n)[:n]
+        pair = np.zeros(b.n_bonds)  # 2 x the bond-based coefficient, to D_i and D_j
+        if self.mode == kernels.MODE_SILLING:
+            pair = 2.0 * vol[bi] * stab[bi] * w
+        elif self.mode == kernels.MODE_LBSCMM:
+            l_min = np.full(n, np.inf)
+            np.minimum.at(l_min, bi, np.where(w > 0, self.length, np.inf))
+            pair = vol[bi] * active[bi] * self.micromodulus * w / l_min[bi]
+        dsum = dsum + np.bincount(bi, pair, minlength=n) + np.bincount(bj, pair, minlength=n)[:n]
+        return np.asarray(0.5 * dsum / vol[:n])
