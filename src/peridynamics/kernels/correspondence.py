@@ -125,9 +125,19 @@ def shape_determinant(bond_xi, offsets, wv, intact, out):
 @_hot
 def prepass(
     bond_xi, length, u, offsets, bond_j, wv, intact, det_ref, degenerate_ratio, mode, stab,
-    kinv, fgrad, sigma_s, omega0, active,
+    kinv, fgrad, sigma_s, omega0, active, scratch,
 ):  # fmt: skip
-    """Shape tensor inverse, deformation gradient and (LBSCMM) sigma^s of every point.
+    """Shape tensor inverse, deformation gradient and (LBSCMM) sigma^s of every point,
+    in one pass over each family.
+
+    ``F = I + (sum_k w_k eta (x) xi) K^-1`` (eta = u_j - u_i, no cancellation at small
+    strain) and, for LBSCMM, with ``xi . z = xi . eta - xi^T (F - I) xi``,
+
+        sigma^s = stab_i [ sum_k w_k (xi . eta) xi (x) xi / L^3
+                           - sum_k (w_k / L^3) (xi^T (F - I) xi) xi (x) xi ],
+
+    the second sum through the symmetric matrix ``M_mn = sum_k (w_k / L^3) p_m p_n`` of
+    the products ``p = (xi_a xi_b)_{a <= b}``.
 
     Parameters
     ----------
@@ -144,10 +154,16 @@ def prepass(
         zero unless mode 2); rows ``0..n-1`` are written.
     omega0 : (n_all,) output sum_k w_k (m^3).
     active : (n_all,) output 1.0 for a regular family, 0.0 for a degenerate one.
+    scratch : (n_all, >= 3 m + m m) work rows, m = d (d + 1) / 2.
     """
     n = offsets.shape[0] - 1
     d = u.shape[1]
+    m = 3 if d == 2 else 6
+    # symmetric index pairs (a, b), a <= b: 2-D xx, yy, xy; 3-D xx, yy, zz, xy, xz, yz
     for i in prange(n):
+        acc = scratch[i]
+        for c in range(3 * m + m * m):
+            acc[c] = 0.0
         for a in range(d):
             for b in range(d):
                 kinv[i, a, b] = 0.0
@@ -160,13 +176,86 @@ def prepass(
                 continue
             j = bond_j[k]
             om += w
-            for a in range(d):
-                ya = bond_xi[k, a] + u[j, a] - u[i, a]
-                for b in range(d):
-                    xb = w * bond_xi[k, b]
-                    kinv[i, a, b] += bond_xi[k, a] * xb
-                    fgrad[i, a, b] += ya * xb
+            x0 = bond_xi[k, 0]
+            x1 = bond_xi[k, 1]
+            e0 = u[j, 0] - u[i, 0]
+            e1 = u[j, 1] - u[i, 1]
+            if d == 2:
+                acc[0] += w * x0 * x0
+                acc[1] += w * x1 * x1
+                acc[2] += w * x0 * x1
+                fgrad[i, 0, 0] += w * e0 * x0
+                fgrad[i, 0, 1] += w * e0 * x1
+                fgrad[i, 1, 0] += w * e1 * x0
+                fgrad[i, 1, 1] += w * e1 * x1
+                if mode == 2:
+                    lk = length[k]
+                    wl = w / (lk * lk * lk)
+                    q = wl * (x0 * e0 + x1 * e1)
+                    p0 = x0 * x0
+                    p1 = x1 * x1
+                    p2 = x0 * x1
+                    acc[3] += q * p0
+                    acc[4] += q * p1
+                    acc[5] += q * p2
+                    acc[9] += wl * p0 * p0
+                    acc[10] += wl * p0 * p1
+                    acc[11] += wl * p0 * p2
+                    acc[13] += wl * p1 * p1
+                    acc[14] += wl * p1 * p2
+                    acc[17] += wl * p2 * p2
+            else:
+                x2 = bond_xi[k, 2]
+                e2 = u[j, 2] - u[i, 2]
+                acc[0] += w * x0 * x0
+                acc[1] += w * x1 * x1
+                acc[2] += w * x2 * x2
+                acc[3] += w * x0 * x1
+                acc[4] += w * x0 * x2
+                acc[5] += w * x1 * x2
+                fgrad[i, 0, 0] += w * e0 * x0
+                fgrad[i, 0, 1] += w * e0 * x1
+                fgrad[i, 0, 2] += w * e0 * x2
+                fgrad[i, 1, 0] += w * e1 * x0
+                fgrad[i, 1, 1] += w * e1 * x1
+                fgrad[i, 1, 2] += w * e1 * x2
+                fgrad[i, 2, 0] += w * e2 * x0
+                fgrad[i, 2, 1] += w * e2 * x1
+                fgrad[i, 2, 2] += w * e2 * x2
+                if mode == 2:
+                    lk = length[k]
+                    wl = w / (lk * lk * lk)
+                    q = wl * (x0 * e0 + x1 * e1 + x2 * e2)
+                    p0 = x0 * x0
+                    p1 = x1 * x1
+                    p2 = x2 * x2
+                    p3 = x0 * x1
+                    p4 = x0 * x2
+                    p5 = x1 * x2
+                    acc[6] += q * p0
+                    acc[7] += q * p1
+                    acc[8] += q * p2
+                    acc[9] += q * p3
+                    acc[10] += q * p4
+                    acc[11] += q * p5
+                    base = 3 * m
+                    for r in range(6):
+                        pr = p0 if r == 0 else p1 if r == 1 else p2 if r == 2 else p3 if r == 3 else p4 if r == 4 else p5
+                        g = wl * pr
+                        for c in range(r, 6):
+                            pc = p0 if c == 0 else p1 if c == 1 else p2 if c == 2 else p3 if c == 3 else p4 if c == 4 else p5
+                            acc[base + r * 6 + c] += g * pc
         omega0[i] = om
+        # K from its symmetric components, inverted in place
+        for a in range(d):
+            kinv[i, a, a] = acc[a]
+        kinv[i, 0, 1] = acc[d]
+        kinv[i, 1, 0] = acc[d]
+        if d == 3:
+            kinv[i, 0, 2] = acc[4]
+            kinv[i, 2, 0] = acc[4]
+            kinv[i, 1, 2] = acc[5]
+            kinv[i, 2, 1] = acc[5]
         det = _invert_in_place(kinv, i, d)
         if not (det > degenerate_ratio * det_ref[i]) or not (det > 0.0):
             active[i] = 0.0
@@ -176,7 +265,7 @@ def prepass(
                     fgrad[i, a, b] = 1.0 if a == b else 0.0
             continue
         active[i] = 1.0
-        # F = N K^-1, row by row through a small stack of d values
+        # H = N' K^-1 row by row, then F = I + H (the sym. part of H kept for sigma^s)
         for a in range(d):
             r0 = fgrad[i, a, 0]
             r1 = fgrad[i, a, 1]
@@ -188,22 +277,48 @@ def prepass(
                 fgrad[i, a, b] = v
         if mode == 2:
             s = stab[i]
-            for k in range(offsets[i], offsets[i + 1]):
-                w = wv[k] * intact[k]
-                if w == 0.0:
-                    continue
-                j = bond_j[k]
-                xz = 0.0
-                for a in range(d):
-                    za = bond_xi[k, a] + u[j, a] - u[i, a]
-                    for b in range(d):
-                        za -= fgrad[i, a, b] * bond_xi[k, b]
-                    xz += bond_xi[k, a] * za
-                lk = length[k]
-                g = s * w * xz / (lk * lk * lk)
-                for a in range(d):
-                    for b in range(d):
-                        sigma_s[i, a, b] += g * bond_xi[k, a] * bond_xi[k, b]
+            # xi^T H xi = sum_m h_m p_m with h = (H_aa, H_ab + H_ba for a < b)
+            if d == 2:
+                h0 = fgrad[i, 0, 0]
+                h1 = fgrad[i, 1, 1]
+                h2 = fgrad[i, 0, 1] + fgrad[i, 1, 0]
+                m00, m01, m02 = acc[9], acc[10], acc[11]
+                m11, m12, m22 = acc[13], acc[14], acc[17]
+                t0 = acc[3] - (m00 * h0 + m01 * h1 + m02 * h2)
+                t1 = acc[4] - (m01 * h0 + m11 * h1 + m12 * h2)
+                t2 = acc[5] - (m02 * h0 + m12 * h1 + m22 * h2)
+                sigma_s[i, 0, 0] = s * t0
+                sigma_s[i, 1, 1] = s * t1
+                sigma_s[i, 0, 1] = s * t2
+                sigma_s[i, 1, 0] = s * t2
+            else:
+                base = 3 * m
+                for r in range(6):
+                    t = acc[6 + r]
+                    for c in range(6):
+                        mm = acc[base + r * 6 + c] if c >= r else acc[base + c * 6 + r]
+                        if c < 3:
+                            hc = fgrad[i, c, c]
+                        elif c == 3:
+                            hc = fgrad[i, 0, 1] + fgrad[i, 1, 0]
+                        elif c == 4:
+                            hc = fgrad[i, 0, 2] + fgrad[i, 2, 0]
+                        else:
+                            hc = fgrad[i, 1, 2] + fgrad[i, 2, 1]
+                        t -= mm * hc
+                    if r < 3:
+                        sigma_s[i, r, r] = s * t
+                    elif r == 3:
+                        sigma_s[i, 0, 1] = s * t
+                        sigma_s[i, 1, 0] = s * t
+                    elif r == 4:
+                        sigma_s[i, 0, 2] = s * t
+                        sigma_s[i, 2, 0] = s * t
+                    else:
+                        sigma_s[i, 1, 2] = s * t
+                        sigma_s[i, 2, 1] = s * t
+        for a in range(d):
+            fgrad[i, a, a] += 1.0
 
 
 @_hot

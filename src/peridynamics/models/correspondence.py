@@ -110,6 +110,7 @@ class CorrespondenceForceModel(ForceModel):
         self._stab_base = np.full(cloud.n_points, 0.5 * self.micromodulus)
         self._bound: NDArray[np.float64] | None = None
         self._scratch: tuple[NDArray[np.float64], ...] | None = None
+        self._rows: NDArray[np.float64] | None = None
 
     # -- fields and passes ----------------------------------------------------------------
     def state_fields(self) -> tuple[FieldSpec, ...]:
@@ -139,7 +140,7 @@ class CorrespondenceForceModel(ForceModel):
         kernels.prepass(
             self.bond_xi, self.length, u, b.offsets, b.bond_j, self.weight, intact,
             self.det_reference, DEGENERATE_RATIO, self.mode, self._stab_base, kinv, fgrad,
-            sigma_s, omega0, active,
+            sigma_s, omega0, active, self._work_rows(n_all),
         )  # fmt: skip
         stab = self._stabilization(omega0, active)
         return fgrad, kinv, sigma_s, omega0, active, stab
@@ -164,7 +165,7 @@ class CorrespondenceForceModel(ForceModel):
         kernels.prepass(
             self.bond_xi, self.length, state.u, b.offsets, b.bond_j, self.weight, state.intact,
             self.det_reference, DEGENERATE_RATIO, self.mode, self._stab_base, kinv, fgrad,
-            sigma_s, omega0, active,
+            sigma_s, omega0, active, self._work_rows(n_all),
         )  # fmt: skip
         n = len(b.offsets) - 1
         state["stabilization"][:n] = self._stabilization(omega0, active)[:n]
@@ -177,6 +178,13 @@ class CorrespondenceForceModel(ForceModel):
         else:  # any other law through its NumPy interface
             piola = self.law.first_piola(fgrad[:n]) * active[:n, None, None]
             amat[:n] = np.einsum("nab,nbc->nac", piola - sigma_s[:n], kinv[:n])
+
+    def _work_rows(self, n_all: int) -> NDArray[np.float64]:
+        """Scratch rows of the pre-pass kernel, (n_all, 3 m + m^2), m = d (d + 1) / 2."""
+        m = 3 if self.dim == 2 else 6
+        if self._rows is None or self._rows.shape[0] != n_all:
+            self._rows = np.empty((n_all, 3 * m + m * m))
+        return self._rows
 
     def _stabilization(
         self, omega0: NDArray[np.float64], active: NDArray[np.float64]
