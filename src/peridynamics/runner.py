@@ -370,7 +370,7 @@ def build_material(m: Any) -> Any:
                 m.poisson_ratio,
                 m.density,
                 m.stabilization,
-                1.0 if m.stabilization_g is None else m.stabilization_g,
+                0.1 if m.stabilization_g is None else m.stabilization_g,
                 m.law,
             )
         if isinstance(m, dk.MicropolarMaterialSpec):

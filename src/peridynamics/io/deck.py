@@ -295,7 +295,7 @@ class CorrespondenceMaterialSpec(Strict):
     2-D and 3-D): deformation gradient, a classical stress law and zero-energy-mode
     control (PD zero-energy modes (n.d.); Silling 2017). ``stabilization``: ``lbscmm``
     (default, parameter-free), ``silling2017`` (penalty ``stabilization_g``,
-    dimensionless: Silling's G over the horizon volume, default 1) or ``none``."""
+    dimensionless: Silling's G over the horizon volume, default 0.1) or ``none``."""
 
     model: Literal["correspondence"]
     youngs_modulus: PosFloat

@@ -180,6 +180,11 @@ class History(Observer):
         r["kinetic_energy_J"].append(kinetic)
         r["strain_energy_J"].append(strain)
         r["max_damage"].append(m.comm.max(float(damage.max())))
+        # specimen damage factor (PD zero-energy modes (n.d.), eq. 13): bonds broken in
+        # the run / all bonds (pre-cracked bonds count as neither failed nor intact)
+        failed = int(np.count_nonzero(m.bonds.bond_intact)) - int(np.count_nonzero(s.intact))
+        total = m.comm.sum(float(m.bonds.n_bonds))
+        r.setdefault("damage_factor", []).append(m.comm.sum(float(failed)) / max(total, 1.0))
         for p in self.deck.output.probes:
             r["probes"][p.name].append(self.probe_value(p, s, damage))
         ss = self.deck.output.stress_strain
@@ -202,7 +207,9 @@ class History(Observer):
     def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
         r = ctx.records
         results["history"] = {
-            k: r[k] for k in ("time_s", "kinetic_energy_J", "strain_energy_J", "max_damage")
+            k: r[k]
+            for k in ("time_s", "kinetic_energy_J", "strain_energy_J", "max_damage", "damage_factor")
+            if k in r
         }
         results["probes"] = {}
         t = np.asarray(r["time_s"])

@@ -163,7 +163,7 @@ class CorrespondenceMaterial:
     poisson_ratio: float
     density: float
     stabilization: Stabilization = "lbscmm"
-    stabilization_g: float = 1.0
+    stabilization_g: float = 0.1
     law: str = "st_venant_kirchhoff"
 
     def __post_init__(self) -> None:
