@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import platform
 import time
 from pathlib import Path
 from tempfile import TemporaryDirectory
@@ -27,13 +26,9 @@ DECK = Path(__file__).resolve().parents[1] / "examples" / "micropolar" / "dcb.ya
 
 
 def _cpu() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown"
+    from _machine import cpu_model  # benchmarks/ is on sys.path when run as a script
+
+    return cpu_model()
 
 
 def run(reuse: bool, spacing: float, size: float, solves: int) -> dict:

@@ -46,7 +46,11 @@ import yaml
 
 HERE = Path(__file__).resolve().parent
 VARIANTS = ("lbscmm", "silling2017", "none", "pmb")
-CASES = {"plate": "plate_hole.yaml", "plate_damage": "plate_hole_damage.yaml", "bend": "three_point_bend.yaml"}
+CASES = {
+    "plate": "plate_hole.yaml",
+    "plate_damage": "plate_hole_damage.yaml",
+    "bend": "three_point_bend.yaml",
+}
 #: points with damage above this are "damaged" in the crack measures
 DAMAGED = 0.35
 
@@ -119,6 +123,8 @@ def _cauchy(case_deck: dict[str, Any], variant: str, state: Any) -> np.ndarray:
 
     sim = Simulation.from_deck(parse_deck(case_deck, HERE))
     model = sim.model
+    if model.n_points != len(state["u"]):
+        raise ValueError("the deck does not match the run (pass the same --set overrides)")
     if variant == "pmb":
         return np.asarray(model.point_stress(state["u"], state["intact"])[:, 0, 0])
     return np.asarray(model.force_model.cauchy_stress(state["u"], state["intact"])[:, 0, 0])
@@ -142,7 +148,9 @@ def plate(out: Path, sets: list[str], run: bool) -> dict[str, Any]:
         shift = uf[pin, 1] - u[pin, 1]
         err = np.abs(u - uf + [0.0, shift]).max() / np.abs(uf).max()
         reaction = float(summ["results"]["probes"]["reaction"]["values"][-1])
-        deck = variant_deck("plate", var)
+        from peridynamics.io.deck import apply_overrides
+
+        deck = apply_overrides(variant_deck("plate", var), sets)
         sxx = _cauchy(deck, var, st)
         near = np.abs(np.linalg.norm(x - centre, axis=1) - a) < 0.75 * dx
         near &= np.abs(x[:, 0] - centre[0]) < 1.0 * dx
@@ -195,7 +203,9 @@ def _plot_plate(out: Path, profiles: dict[str, Any], fem: Any) -> None:
     plt.close(fig)
 
 
-def _damage_case(case: str, out: Path, sets: list[str], run: bool, load_probe: str) -> dict[str, Any]:
+def _damage_case(
+    case: str, out: Path, sets: list[str], run: bool, load_probe: str
+) -> dict[str, Any]:
     res: dict[str, Any] = {"variants": {}}
     curves = {}
     for var in VARIANTS:
@@ -250,7 +260,7 @@ def _plot_damage(out: Path, case: str, curves: dict[str, Any]) -> None:
         ax.tick_params(labelsize=7)
         ax_l.plot(disp * 1e3, load, label=var)
         ax_d.plot(disp * 1e3, dfac, label=var)
-    fig.colorbar(sc, ax=fig.axes[: n], shrink=0.6)
+    fig.colorbar(sc, ax=fig.axes[:n], shrink=0.6)
     ax_l.set_ylabel("load (N)")
     ax_d.set_ylabel("damage factor")
     ax_d.set_xlabel("load-point displacement (mm)")

@@ -31,7 +31,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds
-from peridynamics.damage.critical_stretch import NO_DAMAGE, CriticalStretch, CriticalStretchLaw
+from peridynamics.damage.critical_stretch import NO_DAMAGE, CriticalStretchLaw
 from peridynamics.damage.sed import SEDSoftening
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import bond_based

@@ -990,9 +990,7 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
             errors.append(
                 ("damage.sed_softening", "softens bond stiffness: needs material.model pmb")
             )
-    if deck.damage.tensile_strength is not None and not isinstance(
-        mat, CorrespondenceMaterialSpec
-    ):
+    if deck.damage.tensile_strength is not None and not isinstance(mat, CorrespondenceMaterialSpec):
         errors.append(
             (
                 "damage.tensile_strength",

@@ -208,7 +208,13 @@ class History(Observer):
         r = ctx.records
         results["history"] = {
             k: r[k]
-            for k in ("time_s", "kinetic_energy_J", "strain_energy_J", "max_damage", "damage_factor")
+            for k in (
+                "time_s",
+                "kinetic_energy_J",
+                "strain_energy_J",
+                "max_damage",
+                "damage_factor",
+            )
             if k in r
         }
         results["probes"] = {}
@@ -500,7 +506,10 @@ class Figure(Observer):
             kind = "probes" if cloud.dim == 1 else "damage"
         path = ctx.out / f"{name}_{kind}.png"
         damage = ctx.damage(s)
-        title = f"{name}: damage at t = {s.t * 1e6:.2f} us"
+        if getattr(self.deck.solver, "type", "explicit") in ("adr", "static"):
+            title = f"{name}: damage after load step {s.step}"  # pseudo-time is no time
+        else:
+            title = f"{name}: damage at t = {s.t * 1e6:.2f} us"
         if kind == "damage" and cloud.dim == 1:
             plot_histories(
                 path, cloud.x[:, 0].tolist(), {"damage": damage.tolist()}, title,

@@ -240,10 +240,34 @@ def prepass(
                     acc[11] += q * p5
                     base = 3 * m
                     for r in range(6):
-                        pr = p0 if r == 0 else p1 if r == 1 else p2 if r == 2 else p3 if r == 3 else p4 if r == 4 else p5
+                        pr = (
+                            p0
+                            if r == 0
+                            else p1
+                            if r == 1
+                            else p2
+                            if r == 2
+                            else p3
+                            if r == 3
+                            else p4
+                            if r == 4
+                            else p5
+                        )
                         g = wl * pr
                         for c in range(r, 6):
-                            pc = p0 if c == 0 else p1 if c == 1 else p2 if c == 2 else p3 if c == 3 else p4 if c == 4 else p5
+                            pc = (
+                                p0
+                                if c == 0
+                                else p1
+                                if c == 1
+                                else p2
+                                if c == 2
+                                else p3
+                                if c == 3
+                                else p4
+                                if c == 4
+                                else p5
+                            )
                             acc[base + r * 6 + c] += g * pc
         omega0[i] = om
         # K from its symmetric components, inverted in place

@@ -39,7 +39,7 @@ def prepass(
     nmat = np.zeros((n, d, d))
     np.add.at(kmat, i, w[:, None, None] * bond_xi[:, :, None] * bond_xi[:, None, :])
     np.add.at(nmat, i, w[:, None, None] * y[:, :, None] * bond_xi[:, None, :])
-    omega0 = np.bincount(i, w, minlength=n)
+    omega0 = np.bincount(i, w, minlength=n).astype(np.float64)
     det = np.linalg.det(kmat)
     active = ((det > degenerate_ratio * det_ref) & (det > 0)).astype(np.float64)
     safe = np.where(active[:, None, None] > 0, kmat, np.eye(d))

@@ -154,9 +154,7 @@ class CorrespondenceForceModel(ForceModel):
                 shape = (n_all, spec.components) if spec.components else (n_all,)
                 state[spec.name] = np.zeros(shape)
         if self._scratch is None or self._scratch[0].shape[0] != n_all:
-            self._scratch = tuple(np.zeros((n_all, d, d)) for _ in range(3)) + (
-                np.zeros(n_all),
-            )
+            self._scratch = tuple(np.zeros((n_all, d, d)) for _ in range(3)) + (np.zeros(n_all),)
         kinv, sigma_s, work, omega0 = self._scratch
         fgrad = self._tensor(state, "deformation_gradient")
         amat = self._tensor(state, "force_tensor")
