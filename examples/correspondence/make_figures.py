@@ -11,6 +11,8 @@ Usage::
     python examples/correspondence/make_figures.py plate --out results/quick \
         --set discretisation.spacing=2.5e-3
     python examples/correspondence/make_figures.py bend --no-run     # re-analyse
+    python examples/correspondence/make_figures.py plate_damage --variants none \
+        --set none:solver.max_iterations=4000   # one variant, a key for it alone
 
 Every variant runs its deck into ``<out>/<case>/<variant>/``; each case writes
 ``<case>.json`` (the measured numbers) and ``<case>.png`` into ``<out>``:
@@ -51,6 +53,8 @@ CASES = {
     "plate_damage": "plate_hole_damage.yaml",
     "bend": "three_point_bend.yaml",
 }
+#: the variants that are run (the others are re-read): ``--variants``
+RUN: list[str] = list(VARIANTS)
 #: points with damage above this are "damaged" in the crack measures
 DAMAGED = 0.35
 
@@ -77,13 +81,16 @@ def variant_deck(case: str, variant: str) -> dict[str, Any]:
 
 
 def run_variant(case: str, variant: str, out: Path, sets: list[str], run: bool) -> dict[str, Any]:
-    """Run (or re-read) one variant; returns summary.json's content."""
+    """Run (or re-read) one variant; returns summary.json's content. ``sets`` entries
+    ``variant:key=value`` apply to that variant only."""
     from peridynamics.io.deck import apply_overrides, parse_deck
     from peridynamics.runner import Simulation
 
     folder = out / case / variant
     if run:
-        data = apply_overrides(variant_deck(case, variant), sets)
+        mine = [x.split(":", 1)[1] for x in sets if x.startswith(f"{variant}:")]
+        common = [x for x in sets if ":" not in x.split("=", 1)[0]]
+        data = apply_overrides(variant_deck(case, variant), common + mine)
         deck = parse_deck(data, HERE)
         Simulation.from_deck(deck).run(folder)
     return json.loads((folder / "summary.json").read_text())
@@ -137,7 +144,7 @@ def plate(out: Path, sets: list[str], run: bool) -> dict[str, Any]:
     res: dict[str, Any] = {"fem_reaction_N": fem.reaction, "variants": {}}
     profiles = {}
     for var in VARIANTS:
-        summ = run_variant("plate", var, out, sets, run)
+        summ = run_variant("plate", var, out, sets, run and var in RUN)
         st = _final(out, "plate", var)
         x, u = st["x"], st["u"]
         dx = float(summ["results"]["spacing_m"])
@@ -150,7 +157,9 @@ def plate(out: Path, sets: list[str], run: bool) -> dict[str, Any]:
         reaction = float(summ["results"]["probes"]["reaction"]["values"][-1])
         from peridynamics.io.deck import apply_overrides
 
-        deck = apply_overrides(variant_deck("plate", var), sets)
+        deck = apply_overrides(
+            variant_deck("plate", var), [x for x in sets if ":" not in x.split("=", 1)[0]]
+        )
         sxx = _cauchy(deck, var, st)
         near = np.abs(np.linalg.norm(x - centre, axis=1) - a) < 0.75 * dx
         near &= np.abs(x[:, 0] - centre[0]) < 1.0 * dx
@@ -209,7 +218,7 @@ def _damage_case(
     res: dict[str, Any] = {"variants": {}}
     curves = {}
     for var in VARIANTS:
-        summ = run_variant(case, var, out, sets, run)
+        summ = run_variant(case, var, out, sets, run and var in RUN)
         r = summ["results"]
         st = _final(out, case, var)
         probes = r["probes"]
@@ -275,7 +284,12 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--out", type=Path, default=Path("results/correspondence"))
     p.add_argument("--set", action="append", default=[], dest="sets")
     p.add_argument("--no-run", action="store_true")
+    p.add_argument(
+        "--variants", nargs="+", choices=VARIANTS, default=list(VARIANTS),
+        help="run only these variants and re-read the others",
+    )  # fmt: skip
     args = p.parse_args(argv)
+    RUN[:] = args.variants
     args.out.mkdir(parents=True, exist_ok=True)
     for case in args.cases or list(CASES):
         if case == "plate":

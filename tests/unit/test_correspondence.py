@@ -184,8 +184,9 @@ def _dense_stiffness(m: Model, h: float = 1e-6) -> np.ndarray:
 
 
 def test_zero_energy_modes_of_a_periodic_patch() -> None:
-    """SPEC check (9 x 9 periodic lattice, E = 1, nu = 0.3, plane stress): the plain
-    model has many near-zero non-rigid modes, LBSCMM none; its stiffness is symmetric."""
+    """Periodic patch (docs/theory_correspondence.md; 9 x 9 lattice, E = 1, nu = 0.3,
+    plane stress): the plain model has many near-zero non-rigid modes, LBSCMM and the
+    default Silling penalty none; the stiffness is symmetric."""
     cloud, bonds = _periodic_patch()
     stats = {}
     for stab in STABS:
