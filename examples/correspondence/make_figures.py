@@ -144,6 +144,8 @@ def plate(out: Path, sets: list[str], run: bool) -> dict[str, Any]:
     res: dict[str, Any] = {"fem_reaction_N": fem.reaction, "variants": {}}
     profiles = {}
     for var in VARIANTS:
+        if not (run and var in RUN) and not (out / "plate" / var / "summary.json").exists():
+            continue  # neither run now nor before
         summ = run_variant("plate", var, out, sets, run and var in RUN)
         st = _final(out, "plate", var)
         x, u = st["x"], st["u"]
@@ -218,6 +220,8 @@ def _damage_case(
     res: dict[str, Any] = {"variants": {}}
     curves = {}
     for var in VARIANTS:
+        if not (run and var in RUN) and not (out / case / var / "summary.json").exists():
+            continue  # neither run now nor before
         summ = run_variant(case, var, out, sets, run and var in RUN)
         r = summ["results"]
         st = _final(out, case, var)
@@ -257,19 +261,20 @@ def _plot_damage(out: Path, case: str, curves: dict[str, Any]) -> None:
     import matplotlib.pyplot as plt
 
     n = len(curves)
-    fig = plt.figure(figsize=(12, 3.2 + 1.6 * n))
-    gs = fig.add_gridspec(n, 2, width_ratios=[1.1, 1])
-    ax_l = fig.add_subplot(gs[: n // 2, 1])
-    ax_d = fig.add_subplot(gs[n // 2 :, 1])
-    for k, (var, (disp, load, dfac, x, dmg)) in enumerate(curves.items()):
-        ax = fig.add_subplot(gs[k, 0])
+    fig = plt.figure(figsize=(13, 1.0 + 2.0 * max(n, 2)), layout="constrained")
+    left, right = fig.subfigures(1, 2, width_ratios=[1.25, 1])
+    maps = left.subplots(n, 1, squeeze=False)[:, 0]
+    ax_l, ax_d = right.subplots(2, 1, sharex=True)
+    sc = None
+    for ax, (var, (disp, load, dfac, x, dmg)) in zip(maps, curves.items(), strict=True):
         sc = ax.scatter(x[:, 0] * 1e3, x[:, 1] * 1e3, c=dmg, s=2, cmap="viridis", vmin=0, vmax=1)
         ax.set_aspect("equal")
         ax.set_title(f"{var}: damage", fontsize=9)
         ax.tick_params(labelsize=7)
         ax_l.plot(disp * 1e3, load, label=var)
         ax_d.plot(disp * 1e3, dfac, label=var)
-    fig.colorbar(sc, ax=fig.axes[:n], shrink=0.6)
+    if sc is not None:
+        left.colorbar(sc, ax=list(maps), shrink=0.6, label="damage")
     ax_l.set_ylabel("load (N)")
     ax_d.set_ylabel("damage factor")
     ax_d.set_xlabel("load-point displacement (mm)")
