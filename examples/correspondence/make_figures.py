@@ -25,9 +25,10 @@ Every variant runs its deck into ``<out>/<case>/<variant>/``; each case writes
   gross stress concentration sigma_xx(hole) / (reaction / (W t)) at the particles next
   to the hole, against the FEM value at the same points and the handbook factor;
 * plate_damage: damage maps, the damage factor against the pulled end's displacement,
-  the load at first damage, and where the damage lies (mean |x - 75 mm| of the damaged
-  points and the mean |normal . e_y| of the crack band: a crack perpendicular to the
-  load at the minimum section has |x - 75| small);
+  the load of the load step that first broke bonds (after the re-solve) and of the
+  step before it (the onset lies between), the converged load steps, and where the
+  damage lies (mean |x - 75 mm| of the damaged points and their x range: a crack
+  perpendicular to the load at the minimum section has both small);
 * bend: load against load-point deflection, the damage factor, damage maps, the load at
   first damage, and the crack path (the highest damaged point above the notch tip and
   its lateral offset from the notch plane). The bond-based variant uses the critical
@@ -73,7 +74,9 @@ def variant_deck(case: str, variant: str) -> dict[str, Any]:
         dmg = data["damage"]
         if dmg.get("model") == "principal_stress":
             dmg["model"] = "critical_stretch"
-            dmg["critical_stretch"] = dmg.pop("tensile_strength") / mat["youngs_modulus"]
+            dmg["critical_stretch"] = float(dmg.pop("tensile_strength")) / float(
+                mat["youngs_modulus"]
+            )  # YAML 1.1 reads 0.8e6 as a string
     else:
         mat["stabilization"] = variant
     data["name"] = f"{data['name']}_{variant}"
@@ -236,6 +239,10 @@ def _damage_case(
             "final_damage_factor": float(dfac[-1]),
             "peak_load_N": float(load.max()),
             "load_at_first_damage_N": float(load[first[0]]) if first.size else None,
+            # the converged load of the last step without damage: the onset lies above
+            "load_before_first_damage_N": float(load[first[0] - 1]) if first.size else None,
+            "converged_steps": int(len(disp) - 1 - len(r.get("not_converged_load_steps", []))),
+            "load_steps": int(len(disp) - 1),
             "displacement_at_first_damage_m": float(disp[first[0]]) if first.size else None,
             "damaged_points": int(hit.sum()),
             "wall_s": summ["timing"]["wall_s"],
