@@ -38,7 +38,6 @@ Every variant runs its deck into ``<out>/<case>/<variant>/``; each case writes
 from __future__ import annotations
 
 import argparse
-import copy
 import importlib.util
 import json
 from pathlib import Path
@@ -63,14 +62,11 @@ DAMAGED = 0.35
 def variant_deck(case: str, variant: str) -> dict[str, Any]:
     """The deck of ``case`` as a mapping, with the material of ``variant``."""
     data = yaml.safe_load((HERE / CASES[case]).read_text())
-    data = copy.deepcopy(data)
     mat = data["material"]
     if variant == "pmb":
-        nu = mat.pop("poisson_ratio")
-        for key in ("stabilization", "stabilization_g", "law"):
-            mat.pop(key, None)
+        for key in ("poisson_ratio", "stabilization", "stabilization_g", "law"):
+            mat.pop(key, None)  # PMB fixes nu = 1/3 in plane stress
         mat["model"] = "pmb"
-        del nu  # PMB fixes nu = 1/3 in plane stress
         dmg = data["damage"]
         if dmg.get("model") == "principal_stress":
             dmg["model"] = "critical_stretch"

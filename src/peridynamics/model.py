@@ -338,10 +338,11 @@ class Model:
             load.add_to(out, t)
 
     def strain_energy_density(self, u: NDArray, intact: NDArray[np.uint8]) -> NDArray:
-        """W_i (J/m^3), shape (n,), of the force model (pre-pass included)."""
+        """W_i (J/m^3), shape (n,), of the force model. ``energy_density`` recomputes
+        its per-point reductions (dilatation, deformation gradient) from ``u`` itself, so
+        no pre-pass is run here."""
         s = State(u=u, intact=intact)
         self._add_force_model_fields(s)
-        self.force_model.prepass(s)
         return self.force_model.energy_density(s)
 
     def strain_energy(self, u: NDArray, intact: NDArray[np.uint8]) -> float:

@@ -84,7 +84,9 @@ class CorrespondenceFailureLaw(CriticalStretchLaw):
             keep[np.asarray(failure.stretch.no_fail)] = True
         self._bi = bonds.bond_i.astype(np.intp)
         self._bj = bonds.bond_j.astype(np.intp)
-        self._protected = keep[self._bi] | keep[np.minimum(self._bj, len(keep) - 1)]
+        # serial bond lists: every far point is owned (a distributed run would need the
+        # ghosts' stresses and flags exchanged first)
+        self._protected = keep[self._bi] | keep[self._bj]
         self.last_stress: NDArray[np.float64] | None = None
 
     def bind(self, force_model: CorrespondenceForceModel) -> None:
@@ -111,9 +113,7 @@ class CorrespondenceFailureLaw(CriticalStretchLaw):
         if math.isfinite(self.tensile_strength):
             s1 = fm.max_principal_stress(state.u, state.intact)
             self.last_stress = s1
-            n = len(s1)
-            bj = np.minimum(self._bj, n - 1)  # ghosts: their own rank decides
-            mean = 0.5 * (s1[self._bi] + s1[bj])
+            mean = 0.5 * (s1[self._bi] + s1[self._bj])
             proposed |= intact & (mean >= self.tensile_strength) & ~self._protected
         if proposed.any():
             self._add_degenerate(state, proposed)
@@ -137,5 +137,4 @@ class CorrespondenceFailureLaw(CriticalStretchLaw):
             bad &= np.bincount(self._bi, after, minlength=n) > 0  # still has bonds
             if not bad.any():
                 return
-            bj = np.minimum(self._bj, n - 1)
-            proposed |= intact & (bad[self._bi] | bad[bj])
+            proposed |= intact & (bad[self._bi] | bad[self._bj])

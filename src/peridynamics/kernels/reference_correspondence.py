@@ -12,8 +12,18 @@ from numpy.typing import NDArray
 F64 = NDArray[np.float64]
 
 
-def _owner(offsets: NDArray[np.int64]) -> NDArray[np.intp]:
-    return np.repeat(np.arange(len(offsets) - 1), np.diff(offsets))
+def _bonds(
+    bond_xi: F64,
+    u: F64,
+    offsets: NDArray[np.int64],
+    bond_j: NDArray[np.int32],
+    wv: F64,
+    intact: NDArray[np.uint8],
+) -> tuple[NDArray[np.intp], NDArray[np.intp], F64, F64]:
+    """(owner i, neighbour j, weight w = wv * intact, deformed bond y) of every bond."""
+    i = np.repeat(np.arange(len(offsets) - 1), np.diff(offsets))
+    j = bond_j.astype(np.intp)
+    return i, j, wv * intact, bond_xi + u[j] - u[i]
 
 
 def prepass(
@@ -31,10 +41,7 @@ def prepass(
     """(kinv, fgrad, sigma_s, omega0, active) of :func:`..correspondence.prepass`."""
     n = len(offsets) - 1
     d = u.shape[1]
-    i = _owner(offsets)
-    j = bond_j.astype(np.intp)
-    w = wv * intact
-    y = bond_xi + u[j] - u[i]
+    i, _, w, y = _bonds(bond_xi, u, offsets, bond_j, wv, intact)
     kmat = np.zeros((n, d, d))
     nmat = np.zeros((n, d, d))
     np.add.at(kmat, i, w[:, None, None] * bond_xi[:, :, None] * bond_xi[:, None, :])
@@ -70,11 +77,8 @@ def force(
     """Force density (n, d) of :func:`..correspondence.force`, from the half force
     states T_i<xi> and T_j<-xi> (not the pair form of the kernel)."""
     n = len(offsets) - 1
-    i = _owner(offsets)
-    j = bond_j.astype(np.intp)
-    w = wv * intact
+    i, j, w, y = _bonds(bond_xi, u, offsets, bond_j, wv, intact)
     xi = bond_xi
-    y = xi + u[j] - u[i]
     length = np.linalg.norm(xi, axis=1)
 
     def half(p: NDArray[np.intp], bond: F64, deformed: F64) -> F64:
@@ -107,10 +111,7 @@ def stabilization_energy(
     n = len(offsets) - 1
     if mode == 0:
         return np.zeros(n)
-    i = _owner(offsets)
-    j = bond_j.astype(np.intp)
-    w = wv * intact
-    y = bond_xi + u[j] - u[i]
+    i, _, w, y = _bonds(bond_xi, u, offsets, bond_j, wv, intact)
     z = y - np.einsum("kab,kb->ka", fgrad[i], bond_xi)
     if mode == 1:
         e = w * np.einsum("ka,ka->k", z, z)

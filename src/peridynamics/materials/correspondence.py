@@ -167,16 +167,11 @@ class CorrespondenceMaterial:
     law: str = "st_venant_kirchhoff"
 
     def __post_init__(self) -> None:
-        E, nu, rho = self.youngs_modulus, self.poisson_ratio, self.density
-        if not (isinstance(E, int | float) and math.isfinite(E) and E > 0):
-            raise ValueError(f"material.youngs_modulus must be a finite value > 0 Pa, got {E}")
-        if not (isinstance(nu, int | float) and math.isfinite(nu) and -1.0 < nu < 0.5):
-            raise ValueError(
-                f"material.poisson_ratio must lie in (-1, 0.5) for the correspondence model "
-                f"(bulk and shear moduli > 0), got {nu}"
-            )
-        if not (isinstance(rho, int | float) and math.isfinite(rho) and rho > 0):
-            raise ValueError(f"material.density must be a finite value > 0 kg/m^3, got {rho}")
+        from peridynamics.materials.lps import check_isotropic_constants
+
+        check_isotropic_constants(
+            self.youngs_modulus, self.poisson_ratio, self.density, "correspondence"
+        )
         if self.stabilization not in STABILIZATIONS:
             raise ValueError(
                 f"material.stabilization must be one of {list(STABILIZATIONS)}, "

@@ -90,6 +90,21 @@ _FRACTURE_INTEGRALS: dict[tuple[int, str], tuple[float, float]] = {
 }
 
 
+def check_isotropic_constants(E: float, nu: float, rho: float, model: str) -> None:
+    """Raise ValueError naming the deck key unless E > 0 (Pa), -1 < nu < 0.5 (bulk and
+    shear moduli > 0) and rho > 0 (kg/m^3) are finite numbers; ``model`` names the
+    family in the message."""
+    if not (isinstance(E, int | float) and math.isfinite(E) and E > 0):
+        raise ValueError(f"material.youngs_modulus must be a finite value > 0 Pa, got {E}")
+    if not (isinstance(nu, int | float) and math.isfinite(nu) and -1.0 < nu < 0.5):
+        raise ValueError(
+            f"material.poisson_ratio must lie in (-1, 0.5) for the {model} model "
+            f"(bulk and shear moduli > 0), got {nu}"
+        )
+    if not (isinstance(rho, int | float) and math.isfinite(rho) and rho > 0):
+        raise ValueError(f"material.density must be a finite value > 0 kg/m^3, got {rho}")
+
+
 @dataclass(frozen=True)
 class LPSCoefficients:
     """Constants of the LPS force state in one idealisation.
@@ -136,16 +151,7 @@ class LPSMaterial:
     influence: Influence = "constant"
 
     def __post_init__(self) -> None:
-        E, nu, rho = self.youngs_modulus, self.poisson_ratio, self.density
-        if not (isinstance(E, int | float) and math.isfinite(E) and E > 0):
-            raise ValueError(f"material.youngs_modulus must be a finite value > 0 Pa, got {E}")
-        if not (isinstance(nu, int | float) and math.isfinite(nu) and -1.0 < nu < 0.5):
-            raise ValueError(
-                f"material.poisson_ratio must lie in (-1, 0.5) for the LPS model "
-                f"(bulk and shear moduli > 0), got {nu}"
-            )
-        if not (isinstance(rho, int | float) and math.isfinite(rho) and rho > 0):
-            raise ValueError(f"material.density must be a finite value > 0 kg/m^3, got {rho}")
+        check_isotropic_constants(self.youngs_modulus, self.poisson_ratio, self.density, "LPS")
         if self.influence not in INFLUENCES:
             raise ValueError(
                 f"material.influence must be one of {INFLUENCES}, got {self.influence!r}"

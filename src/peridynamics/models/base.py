@@ -107,7 +107,9 @@ class ForceModel(ABC):
     @abstractmethod
     def energy_density(self, state: State) -> NDArray[np.float64]:
         """Strain energy density W_i (J/m^3), shape (n,), such that the force is
-        V_i f_i = -d(sum_j W_j V_j)/du_i."""
+        V_i f_i = -d(sum_j W_j V_j)/du_i. Computed from the State's value fields and
+        ``intact`` alone: per-point reductions (dilatation, deformation gradient) are
+        recomputed, so no :meth:`prepass` is needed first."""
 
     @abstractmethod
     def stiffness_bound(self) -> NDArray[np.float64]:
