@@ -4,7 +4,9 @@ Bond-based peridynamics only acts along bonds: the faces of a crack, fragments, 
 separate bodies pass through each other unless a contact force keeps them apart.
 :class:`ShortRangeContact` adds the short-range repulsion of Silling & Askari (2005),
 in the form used by the LAMMPS PERI package (Parks et al.), with a cell-list /
-Verlet-list neighbour search in the current configuration.
+Verlet-list neighbour search in the current configuration, and optional Coulomb
+friction (Cundall & Strack 1979) decided on the one-step stopping force (Bardenhagen
+et al. 2000).
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ from numpy.typing import NDArray
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import contact as kernels
+from peridynamics.kernels import contact_friction as friction_kernels
 
 #: LAMMPS PERI (pair_peri_pmb.cpp) multiplies the micromodulus by this constant, taken
 #: from the EMU theory manual (Silling 2005)
@@ -34,6 +37,17 @@ def _positive(name: str, value: float, unit: str) -> float:
     if not (math.isfinite(v) and v > 0):
         raise ValueError(f"{name} must be a finite value > 0 {unit}, got {value}")
     return v
+
+
+def check_friction(static: float, kinetic: float) -> tuple[float, float]:
+    """Validated Coulomb coefficients ``(mu_s, mu_k)``: finite, ``mu_s >= mu_k >= 0``."""
+    mu_s, mu_k = float(static), float(kinetic)
+    if not (math.isfinite(mu_s) and math.isfinite(mu_k) and mu_s >= mu_k >= 0.0):
+        raise ValueError(
+            f"friction coefficients must be finite with static >= kinetic >= 0, got "
+            f"friction_static={static}, friction_kinetic={kinetic}"
+        )
+    return mu_s, mu_k
 
 
 class ShortRangeContact:
@@ -73,6 +87,23 @@ class ShortRangeContact:
     global ``d_c`` is used; ``0.9 x`` the initial nearest-neighbour spacing is the usual
     choice (:meth:`from_cloud`).
 
+    Friction (optional, ``friction_static`` mu_s >= ``friction_kinetic`` mu_k >= 0,
+    default 0): Coulomb's law between the two points of a pair (Cundall & Strack 1979),
+    decided on the force that would stop the relative tangential velocity ``v_t`` (the
+    part of ``v_i - v_j`` normal to the pair) in one step, as in the frictional contact
+    of the material-point method (Bardenhagen et al. 2000). With masses ``m = rho V``,
+    ``m_ij = m_i m_j / (m_i + m_j)``, point loads ``L_i = V_i sum_j c_s (d_c - r) / d_c
+    V_j`` (N) and ``L_ij = max(L_i, L_j)``: the pair sticks when ``m_ij |v_t| / dt <=
+    mu_s L_ij``, with ``f_t = -c_s (d_c - r) / d_c m_ij / (dt L_ij) v_t`` (an isolated
+    pair: the force ``-m_ij v_t / dt`` (N) that stops the slip in one explicit step; a
+    point in several contacts shares it by normal load, so it is never stopped several
+    times over), else it slides, ``f_t = -mu_k c_s (d_c - r) / d_c v_t / |v_t|``.
+    ``F_i += f_t V_j`` and the force on j is ``-f_t V_i`` (``f_t`` is odd in (i, j)):
+    linear momentum is conserved; angular momentum is not (the friction is not
+    central). The friction power ``sum_pairs T . v_t`` (W) is <= 0. No friction in 1-D.
+    :meth:`add_force_with_friction` evaluates it (it needs v, rho and dt); without
+    friction :meth:`add_force` runs the frictionless kernel, unchanged.
+
     The contact stiffens the system: a point in contact with ``m`` neighbours gains a
     radial stiffness of about ``m c_s V / d_c`` (N/m^3 per m), to add to
     ``sum_k c V_k / |xi_k|`` in the explicit stable time-step bound.
@@ -100,6 +131,8 @@ class ShortRangeContact:
     skin : float, optional
         Verlet skin (m), > 0; default ``0.5 d_c``. A larger skin means fewer rebuilds
         but more candidate pairs.
+    friction_static, friction_kinetic : float, optional
+        Coulomb coefficients mu_s >= mu_k >= 0; default 0 (frictionless).
 
     Attributes
     ----------
@@ -120,6 +153,11 @@ class ShortRangeContact:
     peridynamics within a molecular dynamics code, Comput. Phys. Commun. 179, 777-783;
     LAMMPS ``pair_style peri/pmb``.
     M. P. Allen, D. J. Tildesley, Computer Simulation of Liquids (cell and Verlet lists).
+    P. A. Cundall, O. D. L. Strack (1979), A discrete numerical model for granular
+    assemblies, Geotechnique 29, 47-65 (Coulomb friction between particles).
+    S. G. Bardenhagen, J. U. Brackbill, D. Sulsky (2000), The material-point method for
+    granular materials, Comput. Methods Appl. Mech. Engrg. 187, 529-541 (friction from
+    the one-step stopping force).
     """
 
     def __init__(
@@ -130,6 +168,8 @@ class ShortRangeContact:
         contact_distance: float,
         stiffness: float,
         skin: float | None = None,
+        friction_static: float = 0.0,
+        friction_kinetic: float = 0.0,
     ) -> None:
         xa = np.ascontiguousarray(np.asarray(x, dtype=np.float64))
         if xa.ndim != 2 or xa.shape[1] not in (1, 2, 3):
@@ -145,6 +185,9 @@ class ShortRangeContact:
         if skin is None:
             skin = DEFAULT_SKIN_FACTOR * self.contact_distance
         self.skin = _positive("skin", skin, "m")
+        self.friction_static, self.friction_kinetic = check_friction(
+            friction_static, friction_kinetic
+        )
         self.cutoff = self.contact_distance + self.skin
         self.x = xa
         self.volume = vol
@@ -160,6 +203,8 @@ class ShortRangeContact:
         self._keys = np.empty(n, dtype=np.int64)
         self._counts = np.empty(n, dtype=np.int64)
         self._w = np.empty(n)
+        self._load = np.empty(0)
+        self._power = np.empty(0)
 
     # -- construction helpers -------------------------------------------------------------
     @staticmethod
@@ -178,13 +223,18 @@ class ShortRangeContact:
         stiffness: float,
         distance_factor: float = DEFAULT_DISTANCE_FACTOR,
         skin: float | None = None,
+        friction_static: float = 0.0,
+        friction_kinetic: float = 0.0,
     ) -> ShortRangeContact:
         """Contact with ``d_c = distance_factor x`` the initial nearest-neighbour spacing
         (the shortest bond; ``cloud.spacing`` if there is none)."""
         factor = _positive("distance_factor", distance_factor, "")
         lengths = bonds.bond_length
         h = float(lengths.min()) if lengths.size else float(cloud.spacing)
-        return cls(cloud.x, cloud.volume, bonds, factor * h, stiffness, skin)
+        return cls(
+            cloud.x, cloud.volume, bonds, factor * h, stiffness, skin, friction_static,
+            friction_kinetic,
+        )  # fmt: skip
 
     # -- Verlet list ------------------------------------------------------------------------
     @property
@@ -254,12 +304,35 @@ class ShortRangeContact:
             self.rebuild(u)
 
     # -- physics ----------------------------------------------------------------------------
-    def add_force(self, u: NDArray, intact: NDArray[np.uint8], force: NDArray) -> None:
+    @property
+    def has_friction(self) -> bool:
+        """True when the friction acts (mu_s > 0 and dim > 1)."""
+        return self.friction_static > 0.0 and self.x.shape[1] > 1
+
+    def add_force(
+        self,
+        u: NDArray,
+        intact: NDArray[np.uint8],
+        force: NDArray,
+        *,
+        v: NDArray | None = None,
+        density: float | NDArray | None = None,
+        dt: float | None = None,
+    ) -> float:
         """ADD the contact force density (N/m^3) to ``force`` (n, dim).
 
         ``u`` (n, dim) are the displacements (m), ``intact`` (n_bonds,) the bond states
         (uint8, aligned with ``bonds.bond_j``). Rebuilds the Verlet list only when needed.
+        With friction, ``v``, ``density`` and ``dt`` are required (as for
+        :meth:`add_force_with_friction`). Returns the friction power (W, 0.0 without).
         """
+        if self.has_friction:
+            if v is None or density is None or dt is None:
+                raise ValueError(
+                    "this contact has friction: pass v, density and dt "
+                    "(or call add_force_with_friction)"
+                )
+            return self.add_force_with_friction(u, v, intact, force, density, dt)
         self._prepare(u, intact)
         if force.shape != self.x.shape:
             raise ValueError(f"force must have shape {self.x.shape}, got {force.shape}")
@@ -267,6 +340,47 @@ class ShortRangeContact:
             self.x, u, self.volume, self.pair_offsets, self.pair_j, self.pair_bond_ij,
             self.pair_bond_ji, intact, self.contact_distance, self.stiffness, force,
         )  # fmt: skip
+        return 0.0
+
+    def add_force_with_friction(
+        self,
+        u: NDArray,
+        v: NDArray,
+        intact: NDArray[np.uint8],
+        force: NDArray,
+        density: float | NDArray,
+        dt: float,
+    ) -> float:
+        """ADD the contact force density with friction (N/m^3) to ``force`` (n, dim) and
+        return the friction power ``sum_pairs T . v_t`` (W, <= 0).
+
+        ``v`` (n, dim): velocities (m/s), ``density`` (kg/m^3): scalar or (n,), ``dt``:
+        the time step (s). Without friction this is :meth:`add_force` (power 0.0).
+        """
+        if not self.has_friction:
+            return self.add_force(u, intact, force)
+        self._prepare(u, intact)
+        n = self.x.shape[0]
+        for name, a in (("force", force), ("v", v)):
+            if a.shape != self.x.shape:
+                raise ValueError(f"{name} must have shape {self.x.shape}, got {a.shape}")
+        rho = np.asarray(density, dtype=np.float64)
+        rho = np.full(n, float(rho)) if rho.ndim == 0 else rho
+        if rho.shape != (n,) or not np.all(rho > 0):
+            raise ValueError(f"density must be > 0, a scalar or shape ({n},)")
+        step = _positive("dt", dt, "s")
+        if self._load.shape[0] != n:
+            self._load = np.empty(n)
+            self._power = np.empty(n)
+        args = (self.pair_offsets, self.pair_j, self.pair_bond_ij, self.pair_bond_ji, intact)
+        friction_kernels.contact_load(
+            self.x, u, self.volume, *args, self.contact_distance, self.stiffness, self._load
+        )
+        friction_kernels.add_contact_force_friction(
+            self.x, u, v, self.volume, rho, *args, self.contact_distance, self.stiffness,
+            self.friction_static, self.friction_kinetic, step, self._load, force, self._power,
+        )  # fmt: skip
+        return float(np.sum(self._power))
 
     def _energy_and_count(self, u: NDArray, intact: NDArray) -> tuple[float, int]:
         self._prepare(u, intact)

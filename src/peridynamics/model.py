@@ -30,6 +30,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from peridynamics.bodies.composite import CompositeForceModel
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.damage.critical_stretch import NO_DAMAGE, CriticalStretchLaw
 from peridynamics.damage.sed import SEDSoftening
@@ -40,6 +41,7 @@ from peridynamics.loading.conditions import BodyForce
 from peridynamics.materials.viscosity import BondViscosity
 from peridynamics.models.base import DamageLaw, ForceModel
 from peridynamics.models.pmb import PMBForceModel
+from peridynamics.models.pmb_softening import PMBSofteningForceModel
 from peridynamics.models.softening import SoftenedStiffness
 from peridynamics.parallel.communicator import SERIAL, Communicator
 from peridynamics.state import State
@@ -57,9 +59,11 @@ class Model:
         :class:`~peridynamics.materials.bond_based.BondBasedMaterial` (PMB) or
         :class:`~peridynamics.materials.lps.LPSMaterial` (LPS); its ``youngs_modulus``
         and ``density`` are read by the extras.
-    damage : CriticalStretch or CorrespondenceFailure
+    damage : CriticalStretch, CorrespondenceFailure or SofteningBonds
         Failure criterion with a ``law(x, bonds)`` method; ``NO_DAMAGE`` keeps every
-        bond.
+        bond. A criterion that also has ``force_model(material, cloud, bonds,
+        surface_correction)`` (the tension-softening bond laws) builds the force model
+        in place of the material.
     body_forces : sequence of BodyForce
         Force-like loads (body forces, tractions spread over a layer).
     surface_correction : bool
@@ -79,6 +83,9 @@ class Model:
         density (local damping for quasi-static runs by explicit dynamics).
     comm : Communicator
         Global reductions (serial by default).
+    rigid : RigidSystem, optional
+        Rigid bodies (platens, strikers) touching the points through contact
+        (:mod:`peridynamics.bodies.rigid`); their fields live in the State.
     """
 
     cloud: PointCloud
@@ -92,15 +99,23 @@ class Model:
     contact: Any = None
     damping: float = 0.0
     comm: Communicator = SERIAL
+    rigid: Any = None
     force_model: ForceModel = field(init=False, repr=False)
     damage_law: DamageLaw = field(init=False, repr=False)
     density: NDArray[np.float64] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         c = self.cloud
-        self.force_model = self.material.force_model(c, self.bonds, self.surface_correction)
+        shaped = getattr(self.damage, "force_model", None)  # a bond law that shapes the force
+        if shaped is not None:
+            self.force_model = shaped(self.material, c, self.bonds, self.surface_correction)
+        else:
+            self.force_model = self.material.force_model(c, self.bonds, self.surface_correction)
         self.bonds = self.force_model.bonds  # with the surface-correction factors
-        self.damage_law = self.damage.law(c.x, self.bonds)
+        law_for = getattr(self.damage, "law_for", None)  # several bodies: per-body laws
+        self.damage_law = (
+            law_for(self.force_model) if law_for is not None else self.damage.law(c.x, self.bonds)
+        )
         bind = getattr(self.damage_law, "bind", None)
         if bind is not None:  # a law that reads the force model (stresses, shape tensors)
             bind(self.force_model)
@@ -187,8 +202,13 @@ class Model:
             for name in (dof.value, dof.rate, dof.force, dof.body):
                 s[name] = np.zeros((n, dof.components))
         self._add_force_model_fields(s)
+        init = getattr(self.force_model, "init_state", None)
+        if init is not None:  # fields that do not start at zero (interface bonds)
+            init(s)
         if self._sed is not None:
             s["sed_level"] = np.zeros(n, dtype=np.int64)
+        if self.rigid is not None:
+            self.rigid.init_fields(s)
         return s
 
     def inertia(self, k: int) -> NDArray[np.float64]:
@@ -202,7 +222,7 @@ class Model:
         """Allocate the fields the force model declares, sized from ``s.u`` (points) and
         ``s.intact`` (bonds)."""
         for spec in self.force_model.state_fields():
-            rows = len(s.u) if spec.where == "point" else len(s.intact)
+            rows = {"point": len(s.u), "bond": len(s.intact)}.get(spec.where, spec.rows)
             shape = (rows, spec.components) if spec.components else (rows,)
             s[spec.name] = np.zeros(shape, dtype=spec.dtype)
 
@@ -238,6 +258,16 @@ class Model:
             else:
                 broken = fm.force_and_break(state, law.point_s0, law.family_s0_min)
             state.bonds_broken += broken
+        elif commit and isinstance(fm, CompositeForceModel):  # several bodies, each its way
+            broken = fm.force_and_commit(state, law)  # type: ignore[arg-type]
+            state.bonds_broken += broken
+        elif (
+            commit
+            and isinstance(fm, PMBSofteningForceModel)
+            and getattr(law, "fused_model", None) is fm
+        ):  # softening bonds: the law's trial and commit run inside the force pass
+            broken = fm.force_and_commit(state)
+            state.bonds_broken += broken
         else:
             if commit and law.active:
                 law.trial(state)
@@ -253,6 +283,8 @@ class Model:
         """Contact, mass damping and viscous bond forces, added to ``state.force``."""
         if self.contact is not None:
             self.contact.add_force(state.u, state.intact, state.force)
+        if self.rigid is not None:
+            self.rigid.add_force(state, state.u, state.v, self.cloud.x, state.force)
         if self.damping > 0:
             state.force -= (self.damping * self.density)[:, None] * state.v
         if self._viscous is not None:
@@ -282,8 +314,8 @@ class Model:
         """:meth:`evaluate` with commit on bare arrays (a convenience for scripts and tests
         of displacement-only models; solvers pass a State). ``intact`` is updated in
         place. Models with history fields (SED softening) need :meth:`evaluate`."""
-        if self._sed is not None:
-            raise ValueError("a model with SED softening keeps its levels in a State: use evaluate")
+        if self._sed is not None or any(f.history for f in self.force_model.state_fields()):
+            raise ValueError("a model with history fields keeps them in a State: use evaluate")
         if self._viscous is not None and v is None:
             raise ValueError("a model with viscosity needs the velocity v in internal_force")
         s = State(
@@ -356,11 +388,14 @@ class Model:
         """(kinetic, strain) energy (J) of a State, rotations included, over ranks."""
         fm = self.force_model
         groups = fm.dofs()
-        if len(groups) == 1:  # displacement only: the energy of (u, intact)
+        if len(groups) == 1 and not any(f.history for f in fm.state_fields()):
+            # displacement only, no history (softening bonds): the energy of (u, intact)
             strain = self.strain_energy(s.u, s.intact)
         else:  # further dof groups (rotations) live in the State
             strain = self.comm.sum(float(np.sum(fm.energy_density(s) * self.cloud.volume)))
         kinetic = self.kinetic_energy(s.v)
+        if self.rigid is not None:  # free rigid bodies (strikers)
+            kinetic += self.rigid.kinetic_energy(s)
         for k, dof in enumerate(groups[1:], start=1):
             rate = s[dof.rate]
             local = 0.5 * np.sum(self.inertia(k) * self.cloud.volume * np.sum(rate * rate, axis=1))
@@ -372,8 +407,17 @@ class Model:
         local = float(0.5 * np.sum(self.density * self.cloud.volume * np.sum(v * v, axis=1)))
         return self.comm.sum(local)
 
-    def point_damage(self, intact: NDArray[np.uint8]) -> NDArray:
-        """Local damage phi (Lu & Wang (2016), eq. 7), shape (n,)."""
+    def point_damage(
+        self, intact: NDArray[np.uint8], interface_intact: NDArray[np.uint8] | None = None
+    ) -> NDArray:
+        """Local damage phi (Lu & Wang (2016), eq. 7), shape (n,). With several bodies the
+        bonds of their interfaces count too (``interface_intact``: the State field of that
+        name; ``None``: as built)."""
+        fm = self.force_model
+        if isinstance(fm, CompositeForceModel) and fm.interfaces:
+            if interface_intact is None:
+                interface_intact = np.concatenate([f.bonds.bond_intact for f in fm.interfaces])
+            return fm.point_damage(intact, interface_intact)
         out = np.empty(self.n_points)
         bond_based.damage(self.bonds.offsets, self.bonds.bond_volume, intact, out)
         return out

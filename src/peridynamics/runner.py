@@ -21,6 +21,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from peridynamics.bodies.from_deck import (
+    body_layout,
+    build_bodies_model,
+    build_body_points,
+    build_rigid_system,
+    has_bodies,
+)
 from peridynamics.bonds import build_bonds, make_crack
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.damage import NO_DAMAGE, CriticalStretch, SEDSoftening, WeibullField
@@ -58,10 +65,10 @@ class SetupError(ValueError):
 
 
 # ------------------------------------------------------------------------ building
-def build_cloud(deck: dk.Deck) -> PointCloud:
-    """Geometry section -> PointCloud with the deck's node sets (plus 'all')."""
-    g = deck.geometry
-    dx = deck.discretisation.spacing
+def geometry_cloud(g: Any, d: dk.Discretisation) -> PointCloud:
+    """A geometry section (the deck's, a body's or a rigid body's) -> PointCloud without
+    node sets, on the deck's discretisation."""
+    dx = d.spacing
     try:
         if isinstance(g, dk.BarGeometry):
             cloud = bar(
@@ -86,7 +93,26 @@ def build_cloud(deck: dk.Deck) -> PointCloud:
             cloud = from_mesh(g.file, dim=g.dim, thickness=g.thickness, plane=g.plane, spacing=dx)
     except ValueError as exc:
         raise SetupError("geometry", str(exc)) from None
-    sets: dict[str, NDArray[np.intp]] = {"all": np.arange(cloud.n_points)}
+    return cloud
+
+
+def build_cloud(deck: dk.Deck) -> PointCloud:
+    """Geometry section (and further bodies) -> PointCloud with the deck's node sets
+    (plus 'all' and one set per body of a deck with ``bodies``)."""
+    cloud = geometry_cloud(deck.geometry, deck.discretisation)
+    body_sets: dict[str, NDArray[np.intp]] = {}
+    if has_bodies(deck):
+        cloud, layout = build_body_points(deck, cloud)
+        body_sets = layout.node_sets()
+        clash = sorted(set(body_sets) & set(deck.node_sets))
+        if clash:
+            raise SetupError(
+                f"node_sets.{clash[0]}",
+                "has the name of a body (each body is a node set of that name); rename it",
+            )
+        if "all" in body_sets:
+            raise SetupError("bodies", "'all' is built in (every point); rename the body")
+    sets: dict[str, NDArray[np.intp]] = {"all": np.arange(cloud.n_points), **body_sets}
     visiting: set[str] = set()
 
     def resolve(name: str) -> NDArray[np.intp]:
@@ -384,36 +410,73 @@ def build_material(m: Any) -> Any:
         raise SetupError("material", str(exc)) from None
 
 
+def build_damage(dmg: dk.Damage, m: Any, material: Any, cloud: PointCloud, bonds: Bonds) -> Any:
+    """The damage object given to :class:`Model` for the deck's ``damage`` section.
+
+    Parameters
+    ----------
+    dmg : Damage
+        The validated ``damage`` section.
+    m : material spec of the deck (selects the correspondence failure law).
+    material : the material object built from ``m`` (calibrates s0 from G0).
+    cloud : PointCloud
+        Points of the body (node sets of ``no_fail``, dimension, cross-section).
+    bonds : Bonds
+        Its bonds (the horizon).
+
+    Returns
+    -------
+    ``NO_DAMAGE``, :class:`CriticalStretch`, ``CorrespondenceFailure`` or
+    :class:`~peridynamics.damage.bond_softening.SofteningBonds`. Raises SetupError when
+    a softening law has no tail at this horizon.
+    """
+    if dmg.model == "none":
+        return NO_DAMAGE
+    no_fail = (
+        np.unique(np.concatenate([cloud.node_set(n) for n in dmg.no_fail])) if dmg.no_fail else None
+    )
+    if dmg.bond_law != "brittle":  # tension softening (validated: f_t and G0 given)
+        from peridynamics.damage.bond_softening import SofteningBonds
+
+        assert dmg.tensile_strength is not None and dmg.fracture_energy is not None
+        knee = dmg.trilinear_knee
+        soft = SofteningBonds(
+            dmg.bond_law,
+            dmg.tensile_strength,
+            dmg.fracture_energy,
+            None if knee is None else (float(knee[0]), float(knee[1])),
+            no_fail,
+        )
+        try:  # the envelope needs s_c > s0 at this horizon: say so before the run
+            soft.envelope(material, cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane)
+        except ValueError as exc:
+            raise SetupError("damage.tensile_strength", str(exc)) from None
+        return soft
+    s0 = dmg.critical_stretch
+    if dmg.model == "principal_stress":
+        s0 = math.inf
+    elif s0 is None:
+        assert dmg.fracture_energy is not None
+        s0 = material.critical_stretch(
+            dmg.fracture_energy, cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
+        )
+    w = dmg.weibull
+    weibull = None if w is None else WeibullField(w.shape, w.seed, w.variable, w.u0_is)
+    damage: Any = CriticalStretch(s0, no_fail, weibull)
+    if isinstance(m, dk.CorrespondenceMaterialSpec):
+        from peridynamics.damage.principal_stress import CorrespondenceFailure
+
+        f_t = dmg.tensile_strength
+        damage = CorrespondenceFailure(damage, math.inf if f_t is None else f_t)
+    return damage
+
+
 def build_model(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, body: list) -> Model:
     """Material + damage + loads -> Model."""
     material = build_material(deck.material)
     m = deck.material
     dmg = deck.damage
-    damage: Any
-    if dmg.model == "none":
-        damage = NO_DAMAGE
-    else:
-        s0 = dmg.critical_stretch
-        if dmg.model == "principal_stress":
-            s0 = math.inf
-        elif s0 is None:
-            assert dmg.fracture_energy is not None
-            s0 = material.critical_stretch(
-                dmg.fracture_energy, cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
-            )
-        no_fail = (
-            np.unique(np.concatenate([cloud.node_set(n) for n in dmg.no_fail]))
-            if dmg.no_fail
-            else None
-        )
-        w = dmg.weibull
-        weibull = None if w is None else WeibullField(w.shape, w.seed, w.variable, w.u0_is)
-        damage = CriticalStretch(s0, no_fail, weibull)
-        if isinstance(m, dk.CorrespondenceMaterialSpec):
-            from peridynamics.damage.principal_stress import CorrespondenceFailure
-
-            f_t = dmg.tensile_strength
-            damage = CorrespondenceFailure(damage, math.inf if f_t is None else f_t)
+    damage = build_damage(dmg, m, material, cloud, bonds)
     sed = dmg.sed_softening
     softening = (
         None
@@ -452,6 +515,26 @@ def build_model(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, body: list) -> M
     )
 
 
+def build_contact(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, material: Any) -> Any:
+    """Short-range contact between points not joined by an intact bond (``None`` without a
+    ``contact`` section); its stiffness from the PMB micromodulus of ``material``'s E."""
+    if deck.contact is None:
+        return None
+    from peridynamics.contact import ShortRangeContact
+
+    c0 = material.micromodulus_constant(cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane)
+    d_c = deck.contact.distance_factor * cloud.spacing
+    return ShortRangeContact(
+        cloud.x,
+        cloud.volume,
+        bonds,
+        contact_distance=d_c,
+        stiffness=ShortRangeContact.parks_stiffness(
+            c0, d_c, bonds.horizon, deck.contact.stiffness_factor
+        ),
+    )
+
+
 # ---------------------------------------------------------------------- simulation
 @dataclass
 class Simulation:
@@ -476,8 +559,24 @@ class Simulation:
             assert isinstance(m, dk.Material)
             material = MATERIALS[m.model](m.youngs_modulus, m.density, m.micromodulus_profile)
             model: Model = FDMModel1D(cloud, material, body)
+        elif has_bodies(deck):
+            layout = body_layout(deck, cloud)
+            contact = build_contact(deck, cloud, bonds, build_material(deck.material))
+            model = build_bodies_model(deck, cloud, bonds, layout, body, contact)
         else:
             model = build_model(deck, cloud, bonds, body)
+        if deck.rigid_bodies:
+            if not isinstance(s, dk.Solver) or s.hybrid is not None or s.method == "fdm":
+                raise SetupError(
+                    "rigid_bodies",
+                    "rigid bodies move in explicit dynamics (solver.type explicit, no "
+                    "hybrid or fdm method); for a quasi-static test load slowly with "
+                    "solver.damping",
+                )
+            c0 = model.material.micromodulus_constant(
+                cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
+            )
+            model.rigid = build_rigid_system(deck, cloud, model.density, c0, bonds.horizon)
         solver = build_solver(deck, cloud, model, body, kin, init)
         return cls(deck, cloud, model, solver, setup_s=time.perf_counter() - t0)
 

@@ -11,6 +11,13 @@ and the bond factor is the ellipse/ellipsoid interpolation over the bond directi
 
 This also removes the interior discretisation error of the chosen partial-volume rule
 for uniaxial loading.
+
+On irregular clouds (jittered grids, mesh centroids) the axis calibration leaves the
+fourth moment of every family free apart from its ``xxxx``, ``yyyy`` (``zzzz``)
+components, and the family of a jittered grid is biased towards the diagonals (the
+rim bonds of the truncated partial volume drop out at random, short axis bonds turn
+most): a 2-D plate has nu 2-7 % above 1/3. :func:`moment_correction_factors` calibrates
+the whole fourth moment instead (docs/theory_bond_based.md, "Irregular point clouds").
 """
 
 from __future__ import annotations
@@ -19,6 +26,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds
+
+#: the dimensionless fourth moment <n_x^4> of the continuous ball, 3 / (d (d + 2))
+_COS4 = {1: 1.0, 2: 3.0 / 8.0, 3: 1.0 / 5.0}
 
 
 def energy_correction_factors(
@@ -62,3 +72,65 @@ def bond_factors_from_point_ratios(
         g_k = 0.5 * (ratios[k][bonds.bond_i] + ratios[k][bonds.bond_j])
         acc += (n_hat[:, k] / g_k) ** 2
     return 1.0 / np.sqrt(acc)
+
+
+def moment_correction_factors(
+    x: NDArray[np.float64],
+    bonds: Bonds,
+    stiffness: NDArray[np.float64],
+    continuum_energy_density: float,
+    strain: float = 1e-6,
+) -> NDArray[np.float64]:
+    """Per-bond factors that give every point the continuum energy for *every* uniform
+    strain (the moment method), shape (n_bonds,).
+
+    Under a homogeneous small strain eps the energy of point i is
+    ``W_i = 1/4 sum_k w_k (n_k . eps . n_k)^2`` with ``w_k = stiffness_k |xi_k|``: it
+    depends on the family only through its fourth moment ``M_i = sum_k w_k n_k^(x4)``,
+    and it is the continuum energy for every eps exactly when
+    ``M_i = m_inf (d d + d d + d d) / (d (d + 2))`` (the isotropic tensor whose
+    ``xxxx`` component gives the uniaxial ``W_inf``). Each point gets owner factors
+    ``h_k = (m_inf / m_i) g_k``, where ``g_k`` are the influence factors of
+    :func:`peridynamics.models.lps.calibrate_influence` (the minimum-norm quartic in the
+    bond direction, bounded to [0.25, 4] where a cut family needs more) that give the
+    family the isotropic fourth moment at its own total ``m_i = sum_k w_k``; the bond
+    factor is the mean of its two ends, ``G_ij = (h_ij + h_ji) / 2`` (symmetric: the
+    force stays a pair force). Pre-cracked bonds are counted as intact, as in
+    :func:`energy_correction_factors`. On a regular grid this also removes the cubic
+    anisotropy of the lattice (which the axis method keeps), so the grid results
+    differ from :func:`energy_correction_factors`.
+
+    Parameters
+    ----------
+    x : ndarray, shape (n_points, dim)
+        Reference positions (m).
+    bonds : Bonds
+        The bond list (its current correction is ignored).
+    stiffness : ndarray, shape (n_bonds,)
+        Uncorrected bond stiffness ``c(|xi|) beta V_j`` (N/m^3 per unit stretch).
+    continuum_energy_density : float
+        Strain-energy density of the infinite body under uniaxial strain ``strain``
+        (J/m^3).
+    strain : float
+        The uniaxial strain of ``continuum_energy_density`` (the factors do not
+        depend on it).
+
+    Returns
+    -------
+    ndarray, shape (n_bonds,)
+        Symmetric factors G_ij = G_ji > 0.
+    """
+    from dataclasses import replace
+
+    from peridynamics.models.lps import calibrate_influence  # models import bonds
+
+    n, dim = x.shape
+    w = stiffness * bonds.bond_length
+    m_i = np.bincount(bonds.bond_i, w, minlength=n)
+    # W_inf = 1/4 eps^2 M_xxxx = 1/4 eps^2 m_inf <n_x^4>
+    m_inf = 4.0 * continuum_energy_density / (strain * strain * _COS4[dim])
+    every = replace(bonds, bond_intact=np.ones_like(bonds.bond_intact))
+    # calibrate_influence weighs bond k by weight_k |xi_k|^2: pass w / |xi|^2
+    g, _ = calibrate_influence(every, stiffness / bonds.bond_length)
+    h = g * (m_inf / m_i)[bonds.bond_i]
+    return np.asarray(0.5 * (h + h[bonds.reverse_index()]), dtype=np.float64)

@@ -17,8 +17,6 @@ from typing import Annotated, Any, Literal
 
 import yaml
 from pydantic import (
-    BaseModel,
-    BeforeValidator,
     ConfigDict,
     Discriminator,
     Field,
@@ -29,18 +27,21 @@ from pydantic import (
     model_validator,
 )
 
-
-def _not_bool(v: Any) -> Any:
-    if isinstance(v, bool):
-        raise ValueError("a number is expected, not true/false")
-    return v
-
-
-_Num = BeforeValidator(_not_bool)
-PosFloat = Annotated[float, Field(gt=0, allow_inf_nan=False), _Num]
-NonNegFloat = Annotated[float, Field(ge=0, allow_inf_nan=False), _Num]
-Finite = Annotated[float, Field(allow_inf_nan=False), _Num]
-Component = Literal["x", "y", "z"]
+from peridynamics.io.deck_bodies import (
+    BodySpec,
+    InterfaceSpec,
+    RigidBodySpec,
+    RigidShapeSpec,
+    bodies_errors,
+)
+from peridynamics.io.deck_types import (
+    Component,
+    Finite,
+    NonNegFloat,
+    PosFloat,
+    Strict,
+    _Num,
+)
 
 
 class DeckError(ValueError):
@@ -50,12 +51,6 @@ class DeckError(ValueError):
         self.errors = errors
         lines = [f"{path}: {msg}" if path else msg for path, msg in errors]
         super().__init__("invalid deck:\n  " + "\n  ".join(lines))
-
-
-class Strict(BaseModel):
-    """Base: unknown keys are errors; values are immutable."""
-
-    model_config = ConfigDict(extra="forbid", frozen=True)
 
 
 # --------------------------------------------------------------------------- regions
@@ -367,7 +362,10 @@ class Damage(Strict):
     """Bond breaking: ``critical_stretch`` (s0 or fracture_energy; with
     ``tensile_strength`` too, a bond breaks at whichever comes first),
     ``principal_stress`` (``tensile_strength`` only: the mean of the two points' largest
-    principal stresses, correspondence models) or ``none``."""
+    principal stresses, correspondence models) or ``none``. ``bond_law`` ``bilinear`` /
+    ``trilinear`` (PMB only) replaces the brittle bond by a tension-softening one: peak
+    at s0 = tensile_strength / E, the failure stretch from fracture_energy;
+    ``trilinear_knee`` [r, beta] places the knee (default Petersson's [2/9, 1/3])."""
 
     model: Literal["critical_stretch", "principal_stress", "none"] = "critical_stretch"
     critical_stretch: PosFloat | None = None
@@ -376,9 +374,36 @@ class Damage(Strict):
     no_fail: list[str] = []
     weibull: WeibullSpec | None = None
     sed_softening: SEDSofteningSpec | None = None
+    bond_law: Literal["brittle", "bilinear", "trilinear"] = "brittle"
+    trilinear_knee: tuple[Finite, Finite] | None = None
 
     @model_validator(mode="after")
     def _one(self) -> Damage:
+        if self.trilinear_knee is not None:
+            if self.bond_law != "trilinear":
+                raise ValueError("[trilinear_knee] is only used with bond_law 'trilinear'")
+            for name, v in zip(("r", "beta"), self.trilinear_knee, strict=True):
+                if not 0.0 < v < 1.0:
+                    raise ValueError(f"[trilinear_knee] {name} must be in (0, 1), got {v}")
+        if self.bond_law != "brittle":
+            law = f"bond_law {self.bond_law!r}"
+            if self.model != "critical_stretch":
+                raise ValueError(f"[bond_law] {law} needs model 'critical_stretch'")
+            if self.critical_stretch is not None:
+                raise ValueError(
+                    f"[critical_stretch] {law} takes tensile_strength (the peak, s0 = f_t/E) "
+                    "and fracture_energy (the tail), not critical_stretch"
+                )
+            for key in ("tensile_strength", "fracture_energy"):
+                if getattr(self, key) is None:
+                    raise ValueError(
+                        f"[{key}] {law} needs tensile_strength (f_t, Pa) and "
+                        "fracture_energy (G0, J/m^2)"
+                    )
+            for key in ("sed_softening", "weibull"):
+                if getattr(self, key) is not None:
+                    raise ValueError(f"[{key}] does not combine with {law}; use bond_law 'brittle'")
+            return self
         if self.model == "none":
             if self.critical_stretch is not None or self.fracture_energy is not None:
                 raise ValueError(
@@ -837,10 +862,27 @@ class Output(Strict):
 
 
 class Contact(Strict):
-    """Short-range repulsion between points not joined by an intact bond."""
+    """Short-range repulsion between points not joined by an intact bond, with Coulomb
+    friction (``friction_static`` >= ``friction_kinetic``, both 0 by default)."""
 
     distance_factor: Annotated[float, Field(gt=0, le=2, allow_inf_nan=False), _Num] = 0.9
     stiffness_factor: PosFloat = 15.0
+    friction_static: NonNegFloat = 0.0
+    friction_kinetic: NonNegFloat = 0.0
+
+    @model_validator(mode="after")
+    def _coulomb(self) -> Contact:
+        if self.friction_kinetic > self.friction_static:
+            raise ValueError(
+                f"[friction_kinetic] {self.friction_kinetic} must be <= friction_static "
+                f"{self.friction_static} (Coulomb friction)"
+            )
+        return self
+
+
+# the sections of a model with several bodies refer to the schemas above
+for _schema in (BodySpec, InterfaceSpec, RigidShapeSpec, RigidBodySpec):
+    _schema.model_rebuild(_types_namespace=globals())
 
 
 class Deck(Strict):
@@ -855,6 +897,9 @@ class Deck(Strict):
     node_sets: dict[str, RegionSpec] = {}
     precracks: list[Precrack] = []
     contact: Contact | None = None
+    bodies: list[BodySpec] = []
+    interfaces: list[InterfaceSpec] = []
+    rigid_bodies: list[RigidBodySpec] = []
     boundary_conditions: list[BoundaryCondition] = []
     solver: AnySolver
     output: Output = Output()
@@ -950,6 +995,8 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
     dim = deck.dim
     g = deck.geometry
     sets = set(deck.node_sets) | {"all"}
+    if deck.bodies or deck.interfaces:  # every body is a node set of its name
+        sets |= {"main", *(b.name for b in deck.bodies)}
     for name, region in deck.node_sets.items():
         _check_region(errors, f"node_sets.{name}", region, dim, sets - {name})
     for n, hole in enumerate(getattr(g, "holes", [])):
@@ -990,7 +1037,32 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
             errors.append(
                 ("damage.sed_softening", "softens bond stiffness: needs material.model pmb")
             )
-    if deck.damage.tensile_strength is not None and not isinstance(mat, CorrespondenceMaterialSpec):
+    if deck.damage.bond_law != "brittle":  # tension-softening bonds: bond-based PMB only
+        if not isinstance(mat, Material):
+            errors.append(
+                (
+                    "damage.bond_law",
+                    f"{deck.damage.bond_law!r} softens bond-based PMB bonds: needs "
+                    f"material.model pmb or bond_based (got {mat.model!r}); use bond_law "
+                    "'brittle' with this material",
+                )
+            )
+        sv = deck.solver
+        if (
+            isinstance(sv, StaticSolverSpec)
+            or getattr(sv, "hybrid", None) is not None
+            or getattr(sv, "method", "pd") != "pd"
+        ):
+            errors.append(
+                (
+                    "damage.bond_law",
+                    f"{deck.damage.bond_law!r} bonds keep a history that the explicit "
+                    "(method pd, no hybrid) and adr solvers commit; use one of them",
+                )
+            )
+    elif deck.damage.tensile_strength is not None and not isinstance(
+        mat, CorrespondenceMaterialSpec
+    ):
         errors.append(
             (
                 "damage.tensile_strength",
@@ -1146,6 +1218,7 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
         _check_len(errors, "output.crack_tip.origin", deck.output.crack_tip.origin, dim)
         _check_len(errors, "output.crack_tip.direction", deck.output.crack_tip.direction, dim)
         _check_nonzero(errors, "output.crack_tip.direction", deck.output.crack_tip.direction)
+    errors += bodies_errors(deck, _check_len, _check_region)
     return errors + derived_errors(deck)
 
 

@@ -68,7 +68,7 @@ class RunContext:
         got = self.damage_cache.get(s.step)
         if got is None:
             self.damage_cache.clear()
-            got = self.model.point_damage(s.intact)
+            got = self.model.point_damage(s.intact, s.fields.get("interface_intact"))
             self.damage_cache[s.step] = got
         return got
 
@@ -695,6 +695,10 @@ def observers_for(deck: dk.Deck, model: Model, hybrid: bool, checkpoint_every: i
     if o.fracture is not None:
         obs.append(Fracture(o.fracture, model))
     obs.append(History(deck, model))
+    if getattr(model, "rigid", None) is not None:
+        from peridynamics.io.observers_bodies import RigidBodyHistory
+
+        obs.append(RigidBodyHistory(model))
     obs.append(VTKFrames(deck, model))
     if checkpoint_every:
         obs.append(Checkpoints(checkpoint_every))

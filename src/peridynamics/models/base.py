@@ -56,13 +56,15 @@ class Dof:
 class FieldSpec:
     """A field a model family adds to the State: per point (``(n, components)`` or
     ``(n,)`` for ``components == 0``) or per bond; ``history`` fields are decided by a
-    damage law and committed by the solver."""
+    damage law and committed by the solver. A field of any other kind (``where`` another
+    word, such as ``"interface"``) has ``rows`` rows."""
 
     name: str
-    where: str = "point"  # "point" or "bond"
+    where: str = "point"  # "point", "bond" or another kind with explicit ``rows``
     components: int = 0
     dtype: str = "float64"
     history: bool = False
+    rows: int = -1
 
 
 class ForceModel(ABC):

@@ -127,6 +127,9 @@ class ExplicitSolver:
             for k, g in enumerate(self.model.force_model.dofs()[1:], start=1)
         ]
         self._blowup_limit = self.blowup_factor * self.model.cloud.size
+        self._rigid = getattr(self.model, "rigid", None)
+        if self._rigid is not None:
+            self._rigid.time_step = self.dt  # the friction law stops a slip in one step
         self.last_good: State | None = None
         if self.steps is not None and self.end_time is not None:
             raise ValueError("give at most one of steps and end_time")
@@ -221,6 +224,10 @@ class ExplicitSolver:
             integrators.central_difference(s.u, s.u_prev, s.v, s.force, s.body, inv, dt)
         for g, inv_g in self._extra:  # rotations: velocity Verlet for either integrator
             integrators.kick_drift(s[g.value], s[g.rate], s[g.force], s[g.body], inv_g, dt)
+        rigid = self._rigid
+        if rigid is not None:  # rigid bodies: velocity Verlet on their momenta
+            rigid.half_kick(s, dt)
+            rigid.drift(s, s.t, dt)
         for c in self.constraints:  # positions at t + dt
             c.apply(s.u, s.v, t_new, dt)
         self._fix_rotations(s)
@@ -232,6 +239,9 @@ class ExplicitSolver:
             integrators.end_of_step_velocity(s.u, s.u_prev, s.v, s.force, s.body, inv, dt)
         for g, inv_g in self._extra:
             integrators.kick(s[g.rate], s[g.force], s[g.body], inv_g, dt)
+        if rigid is not None:
+            rigid.half_kick(s, dt)
+            rigid.accumulate_friction(s, dt)
         self._fix_rotations(s)
         for c in self.constraints:  # velocities at t + dt
             if isinstance(c, PrescribedVelocity):

@@ -36,7 +36,7 @@ def reference_state(model: ForceModel) -> State:
         "max_stretch": np.zeros(n),
     }
     for spec in model.state_fields():
-        rows = n if spec.where == "point" else model.bonds.n_bonds
+        rows = {"point": n, "bond": model.bonds.n_bonds}.get(spec.where, spec.rows)
         shape = (rows,) if spec.components == 0 else (rows, spec.components)
         fields[spec.name] = np.zeros(shape, dtype=spec.dtype)
     state = State()

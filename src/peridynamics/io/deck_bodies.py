@@ -1,0 +1,261 @@
+"""Deck sections of a model with several bodies: ``bodies``, ``interfaces``,
+``rigid_bodies`` (see ``docs/deck.md``, section "Several bodies").
+
+The deck's ``geometry``, ``material`` and ``damage`` describe the first deformable body,
+named ``main``. Each entry of ``bodies`` adds a deformable body: either the points of
+the main geometry inside a ``region`` (an inclusion, an aggregate) or a separate
+``geometry`` (a second specimen); its material and damage default to the deck's.
+Bonds join points of one body only; ``interfaces`` bond two bodies with their own
+stiffness and strength. ``rigid_bodies`` are platens, supports, indenters and strikers:
+analytic shapes or point sets that touch the deformable points through contact only.
+
+The schemas refer to sections defined in :mod:`peridynamics.io.deck` (regions,
+geometries, materials, damage, time functions), which resolves them after defining
+those.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Annotated, Any, Literal
+
+from pydantic import Field, model_validator
+
+from peridynamics.io.deck_types import Finite, NonNegFloat, PosFloat, Strict
+
+if TYPE_CHECKING:  # resolved by peridynamics.io.deck (model_rebuild) once it defines them
+    from peridynamics.io.deck import AnyMaterial, Damage, Geometry, RegionSpec, TimeFunctionSpec
+
+Name = Annotated[str, Field(min_length=1, max_length=60, pattern=r"^[A-Za-z][A-Za-z0-9_]*$")]
+
+
+class BodySpec(Strict):
+    """A further deformable body: ``region`` (carved out of the main geometry) or
+    ``geometry`` (new points); ``material`` and ``damage`` default to the deck's."""
+
+    name: Name
+    region: RegionSpec | None = None
+    geometry: Geometry | None = None
+    material: AnyMaterial | None = None
+    damage: Damage | None = None
+
+    @model_validator(mode="after")
+    def _where(self) -> BodySpec:
+        if (self.region is None) == (self.geometry is None):
+            raise ValueError(
+                "[region] give exactly one of region (points of the main geometry inside "
+                "it) or geometry (a separate body)"
+            )
+        return self
+
+
+class InterfaceSpec(Strict):
+    """How two deformable bodies meet: ``bonded`` (interface bonds with their own
+    stiffness and strength) or ``contact`` (no bonds; contact forces when
+    ``contact`` is on)."""
+
+    bodies: list[Name] = Field(min_length=2, max_length=2)
+    type: Literal["bonded", "contact"] = "bonded"
+    stiffness_factor: PosFloat = 1.0
+    critical_stretch: PosFloat | None = None
+    fracture_energy: PosFloat | None = None
+
+    @model_validator(mode="after")
+    def _strength(self) -> InterfaceSpec:
+        if self.bodies[0] == self.bodies[1]:
+            raise ValueError("[bodies] an interface joins two different bodies")
+        if self.type == "contact":
+            if self.critical_stretch is not None or self.fracture_energy is not None:
+                raise ValueError(
+                    "[type] a contact interface has no bonds: remove critical_stretch / "
+                    "fracture_energy or use type 'bonded'"
+                )
+        elif self.critical_stretch is not None and self.fracture_energy is not None:
+            raise ValueError(
+                "[critical_stretch] give at most one of critical_stretch or fracture_energy "
+                "(neither: interface bonds never break)"
+            )
+        return self
+
+
+class PlaneShape(Strict):
+    """Half-space behind the plane through ``point`` with outward ``normal``."""
+
+    point: list[Finite]
+    normal: list[Finite]
+
+
+class BoxShape(Strict):
+    """Axis-aligned solid box (in its initial position)."""
+
+    min: list[Finite]
+    max: list[Finite]
+
+    @model_validator(mode="after")
+    def _order(self) -> BoxShape:
+        if len(self.min) != len(self.max):
+            raise ValueError("[max] min and max need the same number of components")
+        if any(a >= b for a, b in zip(self.min, self.max, strict=True)):
+            raise ValueError(f"[max] min {self.min} must be < max {self.max} component-wise")
+        return self
+
+
+class SphereShape(Strict):
+    """Solid sphere (3-D) or disc (2-D)."""
+
+    center: list[Finite]
+    radius: PosFloat
+
+
+class CylinderShape(Strict):
+    """Solid capped cylinder (3-D: ``axis`` x, y or z, ``length``); in 2-D a disc."""
+
+    center: list[Finite]
+    radius: PosFloat
+    axis: Literal["x", "y", "z"] = "z"
+    length: PosFloat | None = None
+
+
+class RigidShapeSpec(Strict):
+    """Exactly one of: plane, box, sphere, cylinder (analytic), points (a geometry
+    whose points are the rigid body)."""
+
+    plane: PlaneShape | None = None
+    box: BoxShape | None = None
+    sphere: SphereShape | None = None
+    cylinder: CylinderShape | None = None
+    points: Geometry | None = None
+
+    @model_validator(mode="after")
+    def _one(self) -> RigidShapeSpec:
+        given = [k for k in type(self).model_fields if getattr(self, k) is not None]
+        if len(given) != 1:
+            keys = ", ".join(type(self).model_fields)
+            raise ValueError(f"a rigid shape needs exactly one of: {keys}; got {given or 'none'}")
+        return self
+
+    def kind(self) -> str:
+        """The key given."""
+        return next(k for k in type(self).model_fields if getattr(self, k) is not None)
+
+
+class RigidBodySpec(Strict):
+    """A rigid body. ``motion: prescribed`` (default) moves it with ``velocity`` (m/s)
+    times ``time_function`` (default 1); ``motion: free`` integrates its translation and
+    rotation under the contact forces from ``velocity`` / ``angular_velocity`` at t = 0,
+    with the mass of ``density`` times its volume."""
+
+    name: Name
+    shape: RigidShapeSpec
+    motion: Literal["prescribed", "free"] = "prescribed"
+    velocity: list[Finite] | None = None
+    time_function: TimeFunctionSpec | None = None
+    angular_velocity: list[Finite] | None = None
+    density: PosFloat | None = None
+    friction_static: NonNegFloat | None = None
+    friction_kinetic: NonNegFloat | None = None
+
+    @model_validator(mode="after")
+    def _motion(self) -> RigidBodySpec:
+        if self.motion == "free":
+            if self.density is None:
+                raise ValueError("[density] a free rigid body needs its density (kg/m^3)")
+            if self.time_function is not None:
+                raise ValueError(
+                    "[time_function] a free rigid body moves under its contact forces; "
+                    "time_function belongs to motion 'prescribed'"
+                )
+            if self.shape.plane is not None:
+                raise ValueError("[shape] a plane has no finite mass: it cannot be free")
+        elif self.angular_velocity is not None:
+            raise ValueError("[angular_velocity] only a free rigid body rotates")
+        fs, fk = self.friction_static, self.friction_kinetic
+        if fs is not None and fk is not None and fk > fs:
+            raise ValueError(
+                f"[friction_kinetic] {fk} must be <= friction_static {fs} (Coulomb friction)"
+            )
+        if (fs is None) != (fk is None):
+            raise ValueError("[friction_static] give both friction_static and friction_kinetic")
+        return self
+
+
+def bodies_errors(deck: Any, check_len: Any, check_region: Any) -> list[tuple[str, str]]:
+    """Cross-section checks of ``bodies``, ``interfaces`` and ``rigid_bodies``: vector
+    lengths, unique names, known bodies (``check_len`` / ``check_region``: the deck
+    module's helpers)."""
+    errors: list[tuple[str, str]] = []
+    dim = deck.dim
+    names = ["main"]
+    for k, b in enumerate(deck.bodies):
+        path = f"bodies.{k}"
+        if b.name in names:
+            errors.append(
+                (f"{path}.name", f"body name {b.name!r} is used twice ('main' is the deck's)")
+            )
+        names.append(b.name)
+        if b.region is not None:
+            check_region(errors, f"{path}.region", b.region, dim, set())
+        if b.geometry is not None and geometry_dim_of(b.geometry) != dim:
+            errors.append(
+                (f"{path}.geometry", f"a {geometry_dim_of(b.geometry)}-D body in a {dim}-D deck")
+            )
+    for k, i in enumerate(deck.interfaces):
+        for n in i.bodies:
+            if n not in names:
+                errors.append((f"interfaces.{k}.bodies", f"unknown body {n!r}; bodies are {names}"))
+    rigid: list[str] = []
+    for k, r in enumerate(deck.rigid_bodies):
+        path = f"rigid_bodies.{k}"
+        if r.name in names or r.name in rigid:
+            errors.append((f"{path}.name", f"name {r.name!r} is used twice"))
+        rigid.append(r.name)
+        check_len(errors, f"{path}.velocity", r.velocity, dim)
+        shape = r.shape
+        kind = shape.kind()
+        spec = getattr(shape, kind)
+        if kind == "points":
+            if geometry_dim_of(spec) != dim:
+                errors.append(
+                    (f"{path}.shape.points", f"a {geometry_dim_of(spec)}-D body in a {dim}-D deck")
+                )
+            continue
+        for key in ("point", "normal", "min", "max", "center"):
+            check_len(errors, f"{path}.shape.{kind}.{key}", getattr(spec, key, None), dim)
+        if kind == "plane" and not any(spec.normal):
+            errors.append((f"{path}.shape.plane.normal", "the normal must not be zero"))
+        if kind == "cylinder" and dim == 3 and spec.length is None:
+            errors.append((f"{path}.shape.cylinder.length", "a 3-D cylinder needs its length (m)"))
+        w = r.angular_velocity
+        if w is not None and len(w) != (1 if dim == 2 else 3):
+            errors.append(
+                (f"{path}.angular_velocity", f"give {1 if dim == 2 else 3} number(s) in {dim}-D")
+            )
+    if deck.rigid_bodies and dim == 1:
+        errors.append(("rigid_bodies", "rigid bodies need a 2-D or 3-D model"))
+    return errors
+
+
+def geometry_dim_of(g: Any) -> int:
+    """Dimension of a geometry section."""
+    from peridynamics.io.deck import geometry_dim
+
+    return geometry_dim(g)
+
+
+def friction_pair(static: float | None, kinetic: float | None) -> tuple[float, float]:
+    """(mu_s, mu_k), both 0 when not given."""
+    s = 0.0 if static is None else float(static)
+    k = 0.0 if kinetic is None else float(kinetic)
+    if not (math.isfinite(s) and math.isfinite(k)):
+        raise ValueError("friction coefficients must be finite")
+    return s, k
+
+
+__all__ = [
+    "BodySpec",
+    "InterfaceSpec",
+    "RigidBodySpec",
+    "RigidShapeSpec",
+    "bodies_errors",
+    "friction_pair",
+]
