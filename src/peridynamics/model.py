@@ -120,6 +120,8 @@ class Model:
         if bind is not None:  # a law that reads the force model (stresses, shape tensors)
             bind(self.force_model)
         self.inv_length = self.bonds.inv_length
+        self.time_step = 1.0  # set by an explicit solver: the friction law reads it
+        self.friction_power = 0.0  # W, of the last evaluation (<= 0)
         self.density = np.full(c.n_points, self.material.density)
         if not (np.isfinite(self.damping) and self.damping >= 0):
             raise ValueError(f"damping must be >= 0 (1/s), got {self.damping}")
@@ -209,7 +211,21 @@ class Model:
             s["sed_level"] = np.zeros(n, dtype=np.int64)
         if self.rigid is not None:
             self.rigid.init_fields(s)
+        if self.has_friction:
+            s["friction_work"] = np.zeros(1)
         return s
+
+    @property
+    def has_friction(self) -> bool:
+        """True when some contact has Coulomb friction (or rigid bodies are present: the
+        State then records the friction work, zero without friction)."""
+        return self.rigid is not None or bool(getattr(self.contact, "has_friction", False))
+
+    def add_friction_work(self, state: State, dt: float) -> None:
+        """Add the energy dissipated by friction over a step of ``dt`` (J), the power of
+        the last evaluation times dt, to the State field ``friction_work``."""
+        if "friction_work" in state:
+            state["friction_work"][0] -= self.friction_power * dt
 
     def inertia(self, k: int) -> NDArray[np.float64]:
         """Mass density of dof group k of the force model (kg/m^3 for displacements,
@@ -281,10 +297,18 @@ class Model:
 
     def _extras(self, state: State) -> None:
         """Contact, mass damping and viscous bond forces, added to ``state.force``."""
+        power = 0.0
         if self.contact is not None:
-            self.contact.add_force(state.u, state.intact, state.force)
+            if self.has_friction:
+                power = self.contact.add_force(
+                    state.u, state.intact, state.force, v=state.v, density=self.density,
+                    dt=self.time_step,
+                )  # fmt: skip
+            else:
+                self.contact.add_force(state.u, state.intact, state.force)
         if self.rigid is not None:
-            self.rigid.add_force(state, state.u, state.v, self.cloud.x, state.force)
+            power += self.rigid.add_force(state, state.u, state.v, self.cloud.x, state.force)
+        self.friction_power = power
         if self.damping > 0:
             state.force -= (self.damping * self.density)[:, None] * state.v
         if self._viscous is not None:

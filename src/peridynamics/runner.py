@@ -70,6 +70,13 @@ def geometry_cloud(g: Any, d: dk.Discretisation) -> PointCloud:
     node sets, on the deck's discretisation."""
     dx = d.spacing
     try:
+        if d.jitter > 0 and isinstance(g, dk.BarGeometry | dk.MeshGeometry):
+            kind = "bar" if isinstance(g, dk.BarGeometry) else "mesh"
+            raise ValueError(
+                f"discretisation.jitter = {d.jitter} needs a rectangle, box or cylinder "
+                f"geometry, not a {kind} (a mesh's points are its cell centroids); set "
+                "discretisation.jitter: 0"
+            )
         if isinstance(g, dk.BarGeometry):
             cloud = bar(
                 g.length, dx, area=g.area, origin=g.origin, nodes_on_boundary=g.nodes_on_boundary
@@ -82,12 +89,27 @@ def geometry_cloud(g: Any, d: dk.Discretisation) -> PointCloud:
                 origin=g.origin,
                 plane=g.plane,
                 holes=[to_region(h) for h in g.holes],
+                jitter=d.jitter,
+                seed=d.seed,
             )
         elif isinstance(g, dk.BoxGeometry):
-            cloud = box(g.size, dx, origin=g.origin, holes=[to_region(h) for h in g.holes])
+            cloud = box(
+                g.size,
+                dx,
+                origin=g.origin,
+                holes=[to_region(h) for h in g.holes],
+                jitter=d.jitter,
+                seed=d.seed,
+            )
         elif isinstance(g, dk.CylinderGeometry):
             cloud = cylinder(
-                g.radius, g.length, dx, origin=g.origin, holes=[to_region(h) for h in g.holes]
+                g.radius,
+                g.length,
+                dx,
+                origin=g.origin,
+                holes=[to_region(h) for h in g.holes],
+                jitter=d.jitter,
+                seed=d.seed,
             )
         else:
             cloud = from_mesh(g.file, dim=g.dim, thickness=g.thickness, plane=g.plane, spacing=dx)
@@ -483,23 +505,7 @@ def build_model(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, body: list) -> M
         if sed is None
         else SEDSoftening(sed.levels, sed.k_c, sed.residual, sed.threshold_stretch, sed.energy)
     )
-    contact = None
-    if deck.contact is not None:
-        from peridynamics.contact import ShortRangeContact
-
-        c0 = material.micromodulus_constant(
-            cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
-        )
-        d_c = deck.contact.distance_factor * cloud.spacing
-        contact = ShortRangeContact(
-            cloud.x,
-            cloud.volume,
-            bonds,
-            contact_distance=d_c,
-            stiffness=ShortRangeContact.parks_stiffness(
-                c0, d_c, bonds.horizon, deck.contact.stiffness_factor
-            ),
-        )
+    contact = build_contact(deck, cloud, bonds, material)
     visc = getattr(m, "viscosity", None)
     return Model(
         cloud,
@@ -532,6 +538,8 @@ def build_contact(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, material: Any)
         stiffness=ShortRangeContact.parks_stiffness(
             c0, d_c, bonds.horizon, deck.contact.stiffness_factor
         ),
+        friction_static=deck.contact.friction_static,
+        friction_kinetic=deck.contact.friction_kinetic,
     )
 
 

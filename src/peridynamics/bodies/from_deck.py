@@ -201,6 +201,7 @@ def build_rigid_system(
     d_c = con.distance_factor * cloud.spacing
     c_s = ShortRangeContact.parks_stiffness(c0, d_c, horizon, con.stiffness_factor)
     bodies = []
+    seating: dict[str, list[float]] = {}
     for k, spec in enumerate(deck.rigid_bodies):
         path = f"rigid_bodies.{k}"
         mu_s = con.friction_static if spec.friction_static is None else spec.friction_static
@@ -222,10 +223,15 @@ def build_rigid_system(
                     center, mass, inertia = rigid_mass_properties(
                         shape, rho, cloud.cross_section, cloud.dim
                     )
-            contact = contact_for_shape(shape, center, 0.5 * d_c, c_s, mu_s, mu_k)
             vel = np.zeros(cloud.dim) if spec.velocity is None else np.asarray(spec.velocity)
             if vel.shape != (cloud.dim,):
                 raise ValueError(f"velocity needs {cloud.dim} components, got {len(vel)}")
+            if spec.touch:
+                shift = touching_shift(shape, cloud.x, vel / np.linalg.norm(vel), 0.5 * d_c)
+                shape = moved_shape(shape, shift)
+                center = center + shift
+                seating[spec.name] = shift.tolist()
+            contact = contact_for_shape(shape, center, 0.5 * d_c, c_s, mu_s, mu_k)
             omega = np.zeros(3)
             if spec.angular_velocity is not None:
                 w = np.asarray(spec.angular_velocity, dtype=float)
@@ -252,6 +258,52 @@ def build_rigid_system(
         except ValueError as exc:
             raise SetupError(path, str(exc)) from None
     try:
-        return RigidSystem(bodies, cloud.volume, density)
+        system = RigidSystem(bodies, cloud.volume, density)
     except ValueError as exc:
         raise SetupError("rigid_bodies", str(exc)) from None
+    system.seating = seating
+    return system
+
+
+def moved_shape(shape: Any, shift: NDArray[np.float64]) -> Any:
+    """The analytic shape translated by ``shift`` (m)."""
+    from dataclasses import replace
+
+    if hasattr(shape, "center"):
+        return replace(shape, center=tuple(np.asarray(shape.center) + shift))
+    return replace(shape, point=tuple(np.asarray(shape.point) + shift))
+
+
+def touching_shift(
+    shape: Any, x: NDArray[np.float64], direction: NDArray[np.float64], radius: float
+) -> NDArray[np.float64]:
+    """The translation s d of ``shape`` along the unit ``direction`` after which its
+    nearest point of ``x`` is exactly at the contact radius (bisection on s to 1e-12 of
+    the model size). Raises when the body never meets the points along that line."""
+
+    def gap(s: float) -> float:
+        phi, _ = shape.evaluate(x - s * direction)
+        return float(phi.min()) - radius
+
+    span = float(np.ptp(x, axis=0).max())
+    lo = 0.0
+    if gap(0.0) <= 0:  # already overlapping: back off first
+        while gap(lo) <= 0 and lo > -4.0 * span:
+            lo -= radius
+    hi = lo + radius
+    while gap(hi) > 0:  # march in steps of the contact radius: no thin wall is skipped
+        lo, hi = hi, hi + radius
+        if hi > 4.0 * span:
+            raise ValueError(
+                "touch: the body does not meet the deformable points when moved along its "
+                "velocity; check its position and velocity"
+            )
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if gap(mid) > 0:
+            lo = mid
+        else:
+            hi = mid
+        if hi - lo < 1e-12 * span:
+            break
+    return lo * direction

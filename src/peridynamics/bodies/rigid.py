@@ -16,8 +16,8 @@ The State holds, per rigid body (rows in deck order): ``rigid_position`` (m, 3),
 displacement of its reference point (the centroid of a finite shape); ``rigid_velocity``
 (m, 3); ``rigid_rotation`` (m, 9) the rotation matrix row by row; ``rigid_momentum``
 (m, 3) the angular momentum (kg m^2/s; in 2-D only z); ``rigid_force`` (m, 3) and
-``rigid_torque`` (m, 3), the contact resultants of the last evaluation (N, N m); and
-``friction_work`` (1,), the energy dissipated by friction so far (J, >= 0).
+``rigid_torque`` (m, 3), the contact resultants of the last evaluation (N, N m). The
+energy dissipated by friction is the State field ``friction_work`` of the evaluator.
 """
 
 from __future__ import annotations
@@ -148,6 +148,8 @@ class RigidSystem:
         self.volume = np.ascontiguousarray(volume, dtype=float)
         self.density = np.ascontiguousarray(density, dtype=float)
         self.time_step = 1.0  # set by an explicit solver (the friction law needs it)
+        #: translation applied at set-up to bodies with ``touch`` (name -> (dim,) m)
+        self.seating: dict[str, list[float]] = {}
 
     @property
     def n_bodies(self) -> int:
@@ -165,7 +167,6 @@ class RigidSystem:
         m = self.n_bodies
         for name, comps in RIGID_FIELDS.items():
             state[name] = np.zeros((m, comps))
-        state["friction_work"] = np.zeros(1)
         rot = state["rigid_rotation"]
         for k, b in enumerate(self.bodies):
             rot[k] = np.eye(3).ravel()
@@ -179,10 +180,10 @@ class RigidSystem:
                 state["rigid_velocity"][k] = b.velocity * b.speed_scale(0.0)
 
     # -- forces ------------------------------------------------------------------------
-    def add_force(self, state: State, u: NDArray, v: NDArray, x: NDArray, force: NDArray) -> None:
+    def add_force(self, state: State, u: NDArray, v: NDArray, x: NDArray, force: NDArray) -> float:
         """ADD the contact force density of every rigid body on the deformable points to
-        ``force`` (n, dim); store each body's resultant and torque in the State and add
-        the friction work of this evaluation (power times the time step)."""
+        ``force`` (n, dim); store each body's resultant and torque in the State. Returns
+        the friction power of this evaluation (W, <= 0)."""
         s = state
         y = x + u
         d = x.shape[1]
@@ -200,11 +201,7 @@ class RigidSystem:
             s["rigid_force"][k, :d] = f_body
             s["rigid_torque"][k] = torque
             power += p
-        self._power = power
-
-    def accumulate_friction(self, state: State, dt: float) -> None:
-        """Add the friction work of the last evaluation (J) to ``friction_work``."""
-        state["friction_work"][0] -= getattr(self, "_power", 0.0) * dt
+        return power
 
     # -- motion ------------------------------------------------------------------------
     def half_kick(self, state: State, dt: float) -> None:

@@ -112,8 +112,9 @@ def contact_for_shape(
     """The contact law of a rigid body: an analytic shape (contact radius ``radius``) or
     a point set (a PointCloud; pair contact distance ``2 radius``)."""
     if isinstance(shape, shapes.Shape):
-        law = RigidShapeContact(shape, radius, stiffness, mu_s, mu_k)
-        return BodyContact(law, reference, relative=False)
+        return BodyContact(
+            RigidShapeContact(shape, radius, stiffness, mu_s, mu_k), reference, relative=False
+        )
     pts = np.asarray(shape.x) - np.asarray(reference)
     law = RigidPointsContact(pts, shape.volume, 2.0 * radius, stiffness, mu_s, mu_k)
     return BodyContact(law, reference, relative=True)

@@ -32,6 +32,11 @@ class PointCloud:
         2-D idealisation; ``None`` in 1-D and 3-D.
     node_sets : mapping of str to ndarray of int
         Named, sorted point indices.
+    irregular : bool
+        True when the points are not on an axis-aligned grid of spacing ``spacing``
+        (jittered generators set it): corrections that assume the symmetry of the grid
+        family (the axis energy method of the PMB surface correction) do not hold;
+        :func:`peridynamics.bonds.surface.moment_correction_factors` does.
     """
 
     x: NDArray[np.float64]
@@ -40,6 +45,7 @@ class PointCloud:
     cross_section: float = 1.0
     plane: Plane | None = None
     node_sets: Mapping[str, NDArray[np.intp]] = field(default_factory=dict)
+    irregular: bool = False
 
     def __post_init__(self) -> None:
         x = np.ascontiguousarray(np.atleast_2d(np.asarray(self.x, dtype=np.float64)))

@@ -141,6 +141,7 @@ def rectangle(
         spacing=dx,
         cross_section=thickness,
         plane=plane,
+        irregular=jitter > 0,
     )
     return _cut(cloud, holes)
 
@@ -165,7 +166,7 @@ def box(
     lo = np.asarray(origin, dtype=np.float64)
     hi = lo + np.array([a.size for a in axes]) * dx
     x, vol = _jittered(x, dx, lo, hi, jitter, seed, volumes)
-    cloud = PointCloud(x=x, volume=vol, spacing=dx)
+    cloud = PointCloud(x=x, volume=vol, spacing=dx, irregular=jitter > 0)
     return _cut(cloud, holes)
 
 

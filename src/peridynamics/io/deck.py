@@ -210,13 +210,27 @@ def geometry_dim(g: Any) -> int:
 
 # -------------------------------------------------------------------- discretisation
 class Discretisation(Strict):
-    """Grid spacing and horizon."""
+    """Grid spacing and horizon; ``jitter`` (fraction of the spacing, 0 <= jitter < 0.5)
+    moves every grid point by a uniform random offset of at most ``jitter * spacing``
+    along each axis, drawn from ``seed`` (rectangle, box and cylinder geometries)."""
 
     spacing: PosFloat
     horizon: PosFloat | None = None
     horizon_factor: Annotated[float, Field(ge=1.0, allow_inf_nan=False), _Num] | None = None
     partial_volume: Literal["truncated", "extended", "none"] = "truncated"
     surface_correction: bool = True  # the nominal E in the interior and at surfaces
+    jitter: Annotated[float, Field(allow_inf_nan=False), _Num] = 0.0
+    seed: Annotated[int, Field(ge=0), _Num] = 0
+
+    @field_validator("jitter")
+    @classmethod
+    def _jitter(cls, v: float) -> float:
+        if not 0.0 <= v < 0.5:
+            raise ValueError(
+                "jitter is a fraction of the spacing with 0 <= jitter < 0.5 (each point "
+                "moves by at most jitter * spacing along each axis; 0: the regular grid)"
+            )
+        return v
 
     @model_validator(mode="after")
     def _horizon(self) -> Discretisation:

@@ -143,7 +143,9 @@ class RigidBodySpec(Strict):
     """A rigid body. ``motion: prescribed`` (default) moves it with ``velocity`` (m/s)
     times ``time_function`` (default 1); ``motion: free`` integrates its translation and
     rotation under the contact forces from ``velocity`` / ``angular_velocity`` at t = 0,
-    with the mass of ``density`` times its volume."""
+    with the mass of ``density`` times its volume. ``touch: true`` first moves the body
+    along its velocity until it just touches the deformable points (seating), so the gap
+    a grid leaves below a curved or offset surface does not delay the loading."""
 
     name: Name
     shape: RigidShapeSpec
@@ -152,6 +154,7 @@ class RigidBodySpec(Strict):
     time_function: TimeFunctionSpec | None = None
     angular_velocity: list[Finite] | None = None
     density: PosFloat | None = None
+    touch: bool = False
     friction_static: NonNegFloat | None = None
     friction_kinetic: NonNegFloat | None = None
 
@@ -169,6 +172,10 @@ class RigidBodySpec(Strict):
                 raise ValueError("[shape] a plane has no finite mass: it cannot be free")
         elif self.angular_velocity is not None:
             raise ValueError("[angular_velocity] only a free rigid body rotates")
+        if self.touch and (self.velocity is None or not any(self.velocity)):
+            raise ValueError("[touch] moves the body along its velocity: give a velocity")
+        if self.touch and self.shape.points is not None:
+            raise ValueError("[touch] works with analytic shapes (plane, box, sphere, cylinder)")
         fs, fk = self.friction_static, self.friction_kinetic
         if fs is not None and fk is not None and fk > fs:
             raise ValueError(

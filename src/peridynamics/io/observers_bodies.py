@@ -65,6 +65,7 @@ class RigidBodyHistory(Observer):
             out[b.name] = {
                 **e,
                 "motion": b.motion,
+                "seating_shift_m": self.rigid.seating.get(b.name),
                 "peak_force_N": float(mag[k]) if mag.size else 0.0,
                 "peak_force_time_s": float(r["time_s"][k]) if mag.size else None,
             }

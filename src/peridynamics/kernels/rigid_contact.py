@@ -26,8 +26,11 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-#: same options as the pair-contact force pass (:mod:`peridynamics.kernels.contact`)
-_hot = njit(parallel=True, fastmath=True, error_model="numpy", cache=True)
+#: fast-math without the no-NaN / no-inf assumptions: a point flown to inf or NaN must
+#: still fail the contact and grid-range tests (an out-of-grid cell index would read out
+#: of bounds)
+FAST = {"nsz", "arcp", "contract", "afn", "reassoc"}
+_hot = njit(parallel=True, fastmath=FAST, error_model="numpy", cache=True)
 #: columns of the per-point reduction rows: force on the body (3), torque about c (3),
 #: friction power, contact flag
 N_ROW = 8

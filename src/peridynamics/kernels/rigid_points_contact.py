@@ -28,6 +28,7 @@ import numpy as np
 from numba import njit, prange
 
 from peridynamics.kernels.rigid_contact import (
+    FAST,
     N_ROW,
     _cross,
     _rotate,
@@ -36,7 +37,7 @@ from peridynamics.kernels.rigid_contact import (
     friction,
 )
 
-_hot = njit(parallel=True, fastmath=True, error_model="numpy", cache=True)
+_hot = njit(parallel=True, fastmath=FAST, error_model="numpy", cache=True)
 
 
 @njit(inline="always")
@@ -83,6 +84,8 @@ def _visit(q0, q1, q2, dim, pts, pvol, lo, inv_side, ncell, cell_start, d_c, c_s
     dc_sq = d_c * d_c
     f0 = f1 = f2 = pw = 0.0
     cnt = 0
+    if a0 > b0 or a1 > b1 or a2 > b2:  # more than one cell outside the grid
+        return f0, f1, f2, pw, cnt
     for c0 in range(a0, b0 + 1):
         for c1 in range(a1 if dim == 3 else 0, (b1 if dim == 3 else 0) + 1):
             if dim == 3:

@@ -130,6 +130,9 @@ class ExplicitSolver:
         self._rigid = getattr(self.model, "rigid", None)
         if self._rigid is not None:
             self._rigid.time_step = self.dt  # the friction law stops a slip in one step
+        self._friction = bool(getattr(self.model, "has_friction", False))
+        if self._friction:
+            self.model.time_step = self.dt
         self.last_good: State | None = None
         if self.steps is not None and self.end_time is not None:
             raise ValueError("give at most one of steps and end_time")
@@ -241,7 +244,8 @@ class ExplicitSolver:
             integrators.kick(s[g.rate], s[g.force], s[g.body], inv_g, dt)
         if rigid is not None:
             rigid.half_kick(s, dt)
-            rigid.accumulate_friction(s, dt)
+        if self._friction:
+            m.add_friction_work(s, dt)
         self._fix_rotations(s)
         for c in self.constraints:  # velocities at t + dt
             if isinstance(c, PrescribedVelocity):

@@ -1,0 +1,128 @@
+"""The elastic response of irregular clouds: jittered grids and mesh centroids.
+
+A plate (plane stress) or box in uniaxial tension: the left layer (x < dx) is fixed in
+x (a roller: one point also in y and z, and one more in z in 3-D, against rigid-body
+motion), the right layer (x > L - dx) carries a total force F = sigma A spread in
+proportion to the nodal volumes. The static solution of the linear (small-strain)
+problem K u = f (the model's analytic tangent; a sparse direct solve in 2-D, CG
+preconditioned by smoothed-aggregation multigrid in 3-D) is fitted by a linear
+displacement field over the interior points (farther than ``margin`` horizons from
+every face). By statics the stress across every section is sigma, so
+E = sigma / eps_xx and nu = -eps_yy / eps_xx.
+
+Oracles (theory, not the code): bond-based PMB has nu = 1/3 in plane stress and 1/4
+in 3-D (the Cauchy relations of a pair potential); LPS reproduces its input E and nu.
+Tolerances 2 % on both (the task's). Measured numbers: docs/theory_bond_based.md,
+"Irregular point clouds", and the printed lines (pytest -s).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import meshio
+import numpy as np
+import pyamg
+import pytest
+import scipy.sparse.linalg as spla
+from scipy.spatial import Delaunay
+
+from peridynamics import BondBasedMaterial, Model, build_bonds
+from peridynamics.bonds.surface import moment_correction_factors
+from peridynamics.geometry import PointCloud, box, from_mesh, rectangle
+from peridynamics.materials.lps import LPSMaterial
+
+E, RHO, DX, M = 70e9, 2700.0, 1e-3, 3.015
+SIGMA = 1e6
+
+
+def pmb_model(cloud: PointCloud, bonds, correction: str = "moments") -> Model:
+    """PMB with the moment correction (``"moments"``) or the deck default, the axis
+    energy method (``"axes"``)."""
+    mat = BondBasedMaterial(E, RHO)
+    if correction == "axes":
+        return Model(cloud, bonds, mat, surface_correction=True)
+    raw = mat.bond_stiffness(cloud, bonds, corrected=False)
+    w_inf = mat.uniaxial_energy_density(1e-6, cloud.dim, bonds.horizon, cloud.cross_section,
+                                        cloud.plane)  # fmt: skip
+    factors = moment_correction_factors(cloud.x, bonds, raw, w_inf, 1e-6)
+    return Model(cloud, bonds.with_correction(factors), mat)
+
+
+def lps_model(cloud: PointCloud, bonds) -> Model:
+    return Model(cloud, bonds, LPSMaterial(E, 0.25, RHO), surface_correction=True)
+
+
+def tension(
+    cloud: PointCloud,
+    make: Callable[[PointCloud, object], Model],
+    size: tuple[float, ...],
+    margin: float,
+    partial_volume: str = "truncated",
+) -> tuple[float, list[float]]:
+    """E / E_nominal and the contraction ratios -eps_kk / eps_xx of the interior."""
+    x, dim = cloud.x, cloud.dim
+    n = cloud.n_points
+    length = np.asarray(size)
+    model = make(cloud, build_bonds(cloud, M * cloud.spacing, partial_volume=partial_volume))
+    k = model.tangent(model.new_state()).tocsr()
+    dx = cloud.spacing
+    left = np.flatnonzero(x[:, 0] < dx)
+    right = np.flatnonzero(x[:, 0] > length[0] - dx)
+    area = float(np.prod(length[1:])) * (cloud.cross_section if dim == 2 else 1.0)
+    f = np.zeros((n, dim))
+    f[right, 0] = SIGMA * area * cloud.volume[right] / cloud.volume[right].sum()
+    fixed = np.zeros((n, dim), dtype=bool)
+    fixed[left, 0] = True
+    pin = left[np.argmin(np.linalg.norm(x[left, 1:] - length[1:] / 2, axis=1))]
+    fixed[pin, 1:] = True
+    if dim == 3:  # no rotation about x
+        fixed[left[np.argmax(x[left, 1])], 2] = True
+    free = ~fixed.reshape(-1)
+    kf = k[free][:, free]
+    u = np.zeros(n * dim)
+    if dim == 2:
+        u[free] = spla.spsolve(kf.tocsc(), f.reshape(-1)[free])
+    else:
+        u[free] = _amg_solve(kf, f.reshape(-1)[free], x, free)
+    u = u.reshape(n, dim)
+    reach = margin * M * dx
+    inner = np.all((x > reach) & (x < length - reach), axis=1)
+    assert inner.sum() >= 20
+    a = np.column_stack([x[inner], np.ones(int(inner.sum()))])
+    grad = np.array([np.linalg.lstsq(a, u[inner, c], rcond=None)[0][:dim] for c in range(dim)])
+    exx = grad[0, 0]
+    return SIGMA / exx / E, [float(-grad[c, c] / exx) for c in range(1, dim)]
+
+
+def _amg_solve(kf, rhs, x, free):
+    """CG + smoothed aggregation with the rigid-body modes as near-null space."""
+    n = len(x)
+    c = (x - x.mean(axis=0)) / DX
+    modes = np.zeros((n, 3, 6))
+    modes[:, :, :3] = np.eye(3)
+    for m, (a, b) in enumerate([(0, 1), (1, 2), (2, 0)]):
+        modes[:, a, 3 + m] = -c[:, b]
+        modes[:, b, 3 + m] = c[:, a]
+    ml = pyamg.smoothed_aggregation_solver(kf, B=modes.reshape(3 * n, 6)[free],
+                                           symmetry="symmetric")  # fmt: skip
+    res: list[float] = []
+    u = ml.solve(rhs, tol=1e-10, accel="cg", maxiter=300, residuals=res)
+    assert res[-1] <= 1e-9 * res[0]
+    return u
+
+
+# -- 2-D plate, PMB ----------------------------------------------------------------------
+PLATE = (0.06, 0.03)
+
+
+def _plate(seed: int, jitter: float = 0.25, **kw) -> PointCloud:
+    return rectangle(PLATE, DX, thickness=1e-3, jitter=jitter, seed=seed, **kw)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_jittered_plate_pmb_moment_correction_gives_e_and_nu(seed: int) -> None:
+    e, (nu,) = tension(_plate(seed), pmb_model, PLATE, margin=2.0)
+    print(f"\nPMB plate jitter 0.25 seed {seed} (moments): E {e:.4f} nu {nu:.4f}")
+    assert e == pytest.approx(1.0, abs=0.02)
+    assert nu == pytest.approx(1 / 3, rel=0.02)
