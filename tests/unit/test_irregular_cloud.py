@@ -136,8 +136,7 @@ def test_voronoi_volumes_reject_points_outside_the_box() -> None:
 def _deck(geometry: dict | None = None, **disc: object) -> dict:
     return {
         "name": "jitter",
-        "geometry": geometry
-        or {"type": "rectangle", "size": [0.008, 0.004], "thickness": 1e-3},
+        "geometry": geometry or {"type": "rectangle", "size": [0.008, 0.004], "thickness": 1e-3},
         "discretisation": {"spacing": DX, "horizon_factor": 3.015, **disc},
         "material": {"youngs_modulus": 70e9, "density": 2700.0},
         "solver": {"steps": 1},

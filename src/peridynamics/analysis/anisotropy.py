@@ -163,7 +163,7 @@ def damage_anisotropy(
             "wider annulus"
         )
     mean_damage = np.bincount(k, d[ring], minlength=n_bins) / count
-    angles = -np.pi + (np.arange(n_bins) + 0.5) * width
+    angles = np.asarray(-np.pi + (np.arange(n_bins) + 0.5) * width, dtype=np.float64)
     extent = np.full(n_bins, float(r_min))
     hit = d[ring] >= threshold
     np.maximum.at(extent, k[hit], r[ring][hit])

@@ -10,10 +10,9 @@ pre-pass and history fields. Bonded interfaces between bodies are
 :class:`~peridynamics.bodies.interface.InterfaceBonds`: PMB bonds with their own
 stiffness and strength, kept in a separate list (State field ``interface_intact``).
 
-Same idea as Peridigm's blocks (one material and damage model per block); the
-interface bonds follow the aggregate-mortar interface of mesoscale concrete models
-(e.g. Zhou & Shou (2017)): bonds across the interface with their own micromodulus and
-critical stretch.
+Same idea as Peridigm's blocks (one material and damage model per block; Parks et al.
+(2012)); the interface bonds are the aggregate-mortar interface of mesoscale concrete
+models: bonds across the interface with their own micromodulus and critical stretch.
 """
 
 from __future__ import annotations

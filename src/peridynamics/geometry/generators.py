@@ -320,7 +320,7 @@ def _polygon_areas(
     last = start + sizes - 1
     nxt[last] = start
     tri = 0.5 * np.linalg.norm(np.cross(d, d[nxt]), axis=1)
-    return np.bincount(owner[order], tri, minlength=k)
+    return np.asarray(np.bincount(owner[order], tri, minlength=k), dtype=np.float64)
 
 
 def _cut(cloud: PointCloud, holes: Sequence[Region]) -> PointCloud:
