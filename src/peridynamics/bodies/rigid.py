@@ -231,6 +231,43 @@ class RigidSystem:
                 s["rigid_velocity"][k] = b.velocity * b.speed_scale(t + dt)
 
     # -- diagnostics -------------------------------------------------------------------
+    def outlines(self, state: State, x: NDArray) -> list[NDArray]:
+        """2-D outlines (k, 2) of the rigid bodies in their current pose, for figures: a
+        box as 4 corners, a disc as 48 points, a point set as its convex hull; a plane
+        as a thin strip across the span of ``x`` (reference positions)."""
+        out = []
+        span = float(np.ptp(x, axis=0).max())
+        for k, b in enumerate(self.bodies):
+            law = getattr(b.contact, "law", None)
+            shape: Any = getattr(law, "shape", None)
+            rot = state["rigid_rotation"][k].reshape(3, 3)[:2, :2]
+            g0 = b.center[:2]
+            g = g0 + state["rigid_position"][k, :2]
+            kind = type(shape).__name__
+            if kind == "Box":
+                c, h = np.asarray(shape.center), np.asarray(shape.half_extents)
+                body = c + h * np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]])
+            elif kind in ("Sphere", "Cylinder"):
+                a = np.linspace(0.0, 2.0 * np.pi, 48, endpoint=False)
+                body = np.asarray(shape.center) + shape.radius * np.c_[np.cos(a), np.sin(a)]
+            elif kind == "Plane":
+                p0, n = np.asarray(shape.point), np.asarray(shape.normal)
+                t = np.array([-n[1], n[0]])
+                mid = x.mean(axis=0)
+                s0 = float((mid - p0) @ t)
+                depth = 0.02 * span
+                a0, a1 = p0 + (s0 - span) * t, p0 + (s0 + span) * t
+                body = np.array([a0, a1, a1 - depth * n, a0 - depth * n])
+            elif law is not None and hasattr(law, "points"):
+                from scipy.spatial import ConvexHull
+
+                pts = np.asarray(law.points) + g0
+                body = pts[ConvexHull(pts).vertices]
+            else:
+                continue
+            out.append((body - g0) @ rot.T + g)
+        return out
+
     def kinetic_energy(self, state: State) -> float:
         """Kinetic energy of the free bodies (J)."""
         e = 0.0

@@ -12,6 +12,16 @@ docs/references.md):
   beta = (delta + dx/2 - |xi|)/dx for delta - dx/2 < |xi| < delta + dx/2, 0 beyond: the
   family reaches delta + dx/2.
 * ``"none"`` -- beta = 1 inside delta.
+
+Irregular clouds (jittered grids, mesh centroids): both rules only use the nominal
+spacing ``dx`` (the grid's, or the spacing given for a mesh), the right scale there.
+``"truncated"`` jumps from beta ~ 1/2 to 0 at |xi| = delta; on the grid at
+delta = 3.015 dx the axis neighbours at 3 dx sit just inside, on a jittered grid they
+count by chance, which biases the family towards the diagonals. A correction that
+calibrates the whole fourth moment of each family
+(:func:`peridynamics.bonds.surface.moment_correction_factors`) removes that bias and
+both rules then give E and nu within 2 %; ``"extended"``, continuous in |xi|, gives the
+smaller non-affine relaxation (docs/theory_bond_based.md, "Irregular point clouds").
 """
 
 from __future__ import annotations

@@ -15,9 +15,10 @@ for uniaxial loading.
 On irregular clouds (jittered grids, mesh centroids) the axis calibration leaves the
 fourth moment of every family free apart from its ``xxxx``, ``yyyy`` (``zzzz``)
 components, and the family of a jittered grid is biased towards the diagonals (the
-rim bonds of the truncated partial volume drop out at random, short axis bonds turn
-most): a 2-D plate has nu 2-7 % above 1/3. :func:`moment_correction_factors` calibrates
-the whole fourth moment instead (docs/theory_bond_based.md, "Irregular point clouds").
+axis bonds at the rim of the truncated partial volume drop out at random): a jittered
+plate has nu 2 % (jitter 0.25) to 7 % (jitter 0.1) above 1/3, a box 2.5 % above 1/4.
+:func:`moment_correction_factors` calibrates the whole fourth moment instead and brings
+both within about 1 % (docs/theory_bond_based.md, "Irregular point clouds").
 """
 
 from __future__ import annotations

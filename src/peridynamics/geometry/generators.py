@@ -22,8 +22,9 @@ Nodal volumes of a jittered grid (``volumes``):
 * ``"cell"``: ``dx^dim`` (times the thickness in 2-D), the volume of the grid cell the
   point came from (it contains the point): exact in the mean.
 
-Measured (docs/theory_bond_based.md, "Irregular point clouds"): the Voronoi volumes make
-the relaxed modulus of a jittered plate 0.5 % closer to the nominal E than ``"cell"``.
+Measured (docs/theory_bond_based.md, "Irregular point clouds"): the Voronoi volumes
+halve the modulus deficit of a jittered plate in tension (PMB with the moment
+correction: E -0.8 % instead of -1.6 % at jitter 0.25, -1.0 % instead of -2.6 % at 0.4).
 """
 
 from __future__ import annotations
@@ -141,7 +142,7 @@ def rectangle(
         spacing=dx,
         cross_section=thickness,
         plane=plane,
-        irregular=jitter > 0,
+        irregular=bool(jitter > 0),
     )
     return _cut(cloud, holes)
 
@@ -166,7 +167,7 @@ def box(
     lo = np.asarray(origin, dtype=np.float64)
     hi = lo + np.array([a.size for a in axes]) * dx
     x, vol = _jittered(x, dx, lo, hi, jitter, seed, volumes)
-    cloud = PointCloud(x=x, volume=vol, spacing=dx, irregular=jitter > 0)
+    cloud = PointCloud(x=x, volume=vol, spacing=dx, irregular=bool(jitter > 0))
     return _cut(cloud, holes)
 
 

@@ -516,7 +516,9 @@ class Figure(Observer):
                 xlabel="x (m)", xscale=1.0,
             )  # fmt: skip
         elif kind == "damage":
-            plot_damage(path, cloud.x, damage, cloud.spacing, title)
+            rigid = getattr(self.model, "rigid", None)
+            outlines = rigid.outlines(s, cloud.x) if rigid is not None and cloud.dim == 2 else None
+            plot_damage(path, cloud.x, damage, cloud.spacing, title, outlines)
         else:
             units = {
                 "displacement": "m",

@@ -12,8 +12,17 @@ import numpy as np  # noqa: E402
 from numpy.typing import NDArray  # noqa: E402
 
 
-def plot_damage(path: Path, x: NDArray, damage: NDArray, spacing: float, title: str) -> None:
-    """Scatter of local damage over the reference configuration (2-D; 3-D: max over z)."""
+def plot_damage(
+    path: Path,
+    x: NDArray,
+    damage: NDArray,
+    spacing: float,
+    title: str,
+    outlines: list[NDArray] | None = None,
+) -> None:
+    """Scatter of local damage over the reference configuration (2-D; 3-D: max over z).
+    ``outlines``: closed polygons (k, 2) drawn on top (rigid bodies, in their final
+    position)."""
     if x.shape[1] == 3:  # project: largest damage along z for each (x, y) column
         keys = np.floor((x[:, :2] - x[:, :2].min(axis=0)) / spacing + 0.5).astype(np.int64)
         _, inv = np.unique(keys, axis=0, return_inverse=True)
@@ -28,6 +37,9 @@ def plot_damage(path: Path, x: NDArray, damage: NDArray, spacing: float, title: 
     sc = ax.scatter(
         x[:, 0], x[:, 1], c=damage, s=size, cmap="jet", vmin=0, vmax=1, marker="s", linewidths=0
     )
+    for poly in outlines or ():
+        closed = np.vstack([poly, poly[:1]])
+        ax.fill(closed[:, 0], closed[:, 1], color="0.6", alpha=0.5, lw=0.8, ec="0.2")
     ax.set_aspect("equal")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
