@@ -354,6 +354,9 @@ def build_conditions(deck: dk.Deck, cloud: PointCloud) -> tuple[list, list, list
                     normal=normal,
                     layer_thickness=spec.layer_thickness,
                     function=time_function(spec.time_function),
+                    jittered=cloud.irregular,
+                    volume=cloud.volume,
+                    cross_section=cloud.cross_section,
                 )
             )
     return body, kin, init

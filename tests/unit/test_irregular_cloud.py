@@ -20,7 +20,7 @@ from scipy.spatial import ConvexHull, Voronoi
 
 from peridynamics import BondBasedMaterial, Model, build_bonds
 from peridynamics.analysis.anisotropy import damage_anisotropy
-from peridynamics.bonds.surface import moment_correction_factors
+from peridynamics.bonds.surface import energy_correction_factors, moment_correction_factors
 from peridynamics.geometry import Ball, box, cylinder, rectangle
 from peridynamics.geometry.generators import voronoi_volumes
 from peridynamics.io.deck import DeckError, parse_deck
@@ -226,7 +226,14 @@ def test_moment_correction_gives_every_interior_point_the_continuum_energy(dim: 
     mu = e_mod / (2 * (1 + nu))
     inner = np.all((cloud.x > 2 * bonds.horizon) & (cloud.x < size - 2 * bonds.horizon), axis=1)
     assert inner.sum() >= 8
-    axes = Model(cloud, bonds, mat, surface_correction=True)  # the axis energy method
+    # the axis energy method (what surface_correction gives on a regular grid)
+    axes = Model(
+        cloud,
+        bonds.with_correction(energy_correction_factors(cloud.x, bonds, raw, w_inf, 1e-6)),
+        mat,
+    )
+    deck_path = Model(cloud, bonds, mat, surface_correction=True)  # irregular: moments
+    assert np.array_equal(deck_path.bonds.bond_correction, g)
     errors = []
     # uniaxial, simple shear, equibiaxial, pure shear in the x-y plane
     for a, b, c in [(1, 0, 0), (0, 1, 0), (1, 0, 1), (1, 0, -1)]:
@@ -300,3 +307,34 @@ def test_plane_of_a_3d_cloud_and_bad_input() -> None:
         damage_anisotropy(b.x, d, [0.01, 0.01], 0.002, 0.009, axes=(1, 1))
     with pytest.raises(ValueError, match="damage must have shape"):
         damage_anisotropy(b.x, d[:-1], [0.01, 0.01], 0.002, 0.009)
+
+
+@pytest.mark.parametrize(
+    ("jitter", "layers", "dim"), [(0.1, 1, 2), (0.25, 2, 2), (0.4, 1, 2), (0.25, 1, 3)]
+)
+def test_traction_on_a_jittered_edge_applies_traction_times_area(jitter, layers, dim):
+    """The layer's body force totals traction x face area although the jittered rows are
+    not flat (extent + dx would be up to (1 + 2 jitter) dx)."""
+    from peridynamics.io import deck as dk
+    from peridynamics.runner import build_cloud, build_conditions
+
+    size = [0.05, 0.02] if dim == 2 else [0.02, 0.01, 0.01]
+    geom = {"type": "rectangle", "size": size, "thickness": 0.01} if dim == 2 else {
+        "type": "box", "size": size}  # fmt: skip
+    normal = [1.0] + [0.0] * (dim - 1)
+    d = dk.parse_deck({
+        "name": "t", "geometry": geom,
+        "discretisation": {"spacing": 0.001, "horizon_factor": 3.015, "jitter": jitter,
+                           "seed": 3},
+        "material": {"youngs_modulus": 1e9, "density": 1000.0},
+        "node_sets": {"right": {"edge": {"normal": normal, "layers": layers}}},
+        "boundary_conditions": [{"type": "traction", "set": "right",
+                                 "value": [1e6] + [0.0] * (dim - 1), "normal": normal}],
+        "solver": {"steps": 1},
+    })  # fmt: skip
+    cloud = build_cloud(d)
+    body, _, _ = build_conditions(d, cloud)
+    out = np.zeros((cloud.n_points, dim))
+    body[0].add_to(out, 0.0)
+    area = size[1] * (0.01 if dim == 2 else size[2])
+    assert float(np.sum(out[:, 0] * cloud.volume)) == pytest.approx(1e6 * area, rel=1e-12)

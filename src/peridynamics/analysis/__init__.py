@@ -1,5 +1,6 @@
 """Post-processing and analysis tools: crack tracking and dispersion relations."""
 
+from peridynamics.analysis.anisotropy import DamageAnisotropy, damage_anisotropy
 from peridynamics.analysis.attenuation import corrected_strength, fit_attenuation
 from peridynamics.analysis.crack import branching, count_branches, crack_tip, tip_speed
 from peridynamics.analysis.crack_path import (
@@ -28,6 +29,8 @@ from peridynamics.analysis.dispersion import (
 )
 
 __all__ = [
+    "DamageAnisotropy",
+    "damage_anisotropy",
     "Advice",
     "CrackPath",
     "extract_crack_path",

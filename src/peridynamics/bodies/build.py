@@ -105,7 +105,12 @@ def assemble_points(
         vols.append(vol)
         starts.append(starts[-1] + len(x))
     cloud = PointCloud(
-        np.concatenate(xs), np.concatenate(vols), main.spacing, main.cross_section, main.plane
+        np.concatenate(xs),
+        np.concatenate(vols),
+        main.spacing,
+        main.cross_section,
+        main.plane,
+        irregular=main.irregular or any(c.irregular for _, c in extra),
     )
     return cloud, BodyLayout(tuple(names), tuple(starts))
 

@@ -65,6 +65,7 @@ def sub_cloud(cloud: PointCloud, start: int, stop: int) -> PointCloud:
         cloud.spacing,
         cloud.cross_section,
         cloud.plane,
+        irregular=cloud.irregular,
     )
 
 

@@ -2,6 +2,7 @@
 points and bonds (``criterion.law(x, bonds)``: trial and commit, see
 :class:`peridynamics.models.base.DamageLaw`)."""
 
+from peridynamics.damage.bond_softening import BondSofteningLaw, SofteningBonds
 from peridynamics.damage.critical_stretch import (
     NO_DAMAGE,
     CriticalStretch,
@@ -17,6 +18,8 @@ DAMAGE_LAWS = {"critical_stretch": CriticalStretch, "none": CriticalStretch}
 
 __all__ = [
     "DAMAGE_LAWS",
+    "BondSofteningLaw",
+    "SofteningBonds",
     "NO_DAMAGE",
     "CriticalStretch",
     "CriticalStretchLaw",

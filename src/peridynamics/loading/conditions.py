@@ -148,6 +148,9 @@ def traction_as_body_force(
     normal: NDArray[np.float64] | None = None,
     layer_thickness: float | None = None,
     function: TimeFunction | None = None,
+    jittered: bool = False,
+    volume: NDArray[np.float64] | None = None,
+    cross_section: float = 1.0,
 ) -> BodyForce:
     """A surface traction t (Pa) spread as a body force t / l over a boundary layer.
 
@@ -155,19 +158,34 @@ def traction_as_body_force(
     surface ``normal`` plus one spacing (one grid row -> dx, k rows -> k dx); without a
     normal, the smallest extent of the set along a coordinate axis plus one spacing (the
     thin direction of an axis-aligned layer, whatever the direction of the traction).
-    The total force is then traction x loaded area for grid layers.
+    The total force is then traction x loaded area for grid layers. On a ``jittered``
+    grid (the layer's rows are not flat) ``l`` is the layer's volume (``volume`` of its
+    points) over its face area: the extents of the set across the normal plus one
+    spacing each (2-D: times ``cross_section``, the thickness), so the total force is
+    traction x that area.
     """
     traction = np.asarray(traction, dtype=float)
     if layer_thickness is None:
         pts = x[nodes]
+        dim = x.shape[1]
         if normal is None:
-            layer_thickness = float(np.min(np.ptp(pts, axis=0))) + spacing
+            axis = int(np.argmin(np.ptp(pts, axis=0)))
+            n = np.eye(dim)[axis]
         else:
             n = np.asarray(normal, dtype=float)
             norm = float(np.linalg.norm(n))
             if norm == 0:
                 raise ValueError("traction: the normal must be a non-zero vector")
-            layer_thickness = float(np.ptp(pts @ (n / norm))) + spacing
+            n = n / norm
+        if jittered and volume is not None and dim > 1:
+            # tangent directions: the rest of an orthonormal basis with n first
+            q = np.linalg.qr(np.column_stack([n, np.eye(dim)]))[0][:, 1:dim]
+            rows = np.round(np.ptp(pts @ q, axis=0) / spacing)  # rows across the face - 1
+            area = float(np.prod((rows + 1.0) * spacing))
+            area *= cross_section if dim == 2 else 1.0
+            layer_thickness = float(np.sum(volume[nodes])) / area
+        else:
+            layer_thickness = float(np.ptp(pts @ n)) + spacing
     if not layer_thickness > 0:
         raise ValueError("traction layer_thickness must be > 0 m")
     return BodyForce(

@@ -14,7 +14,7 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds
-from peridynamics.bonds.surface import energy_correction_factors
+from peridynamics.bonds.surface import energy_correction_factors, moment_correction_factors
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import bond_based
 from peridynamics.models.base import ForceModel
@@ -65,7 +65,10 @@ class PMBForceModel(ForceModel):
             w_inf = material.uniaxial_energy_density(
                 _CALIBRATION_STRAIN, cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
             )
-            factors = energy_correction_factors(cloud.x, bonds, raw, w_inf, _CALIBRATION_STRAIN)
+            # irregular clouds (jittered grids): the moment method calibrates every
+            # uniform strain, not only stretches along the axes (nu stays right)
+            method = moment_correction_factors if cloud.irregular else energy_correction_factors
+            factors = method(cloud.x, bonds, raw, w_inf, _CALIBRATION_STRAIN)
             bonds = bonds.with_correction(factors)
         self.bonds = bonds
         self.stiffness = material.bond_stiffness(cloud, bonds)
