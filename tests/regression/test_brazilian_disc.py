@@ -32,7 +32,7 @@ def _run(tmp_path: Path, *ratios: str) -> dict:
 
 
 def test_small_disc_splits_from_the_centre(tmp_path: Path) -> None:
-    """D/dx = 30 (700 points): the first damage is at the centre, the crack runs along
+    """D/dx = 30 (716 points): the first damage is at the centre, the crack runs along
     the loaded diameter, the strength is close to the bonds' f_t, the loading is
     quasi-static. Measured: strength 0.896 f_t (D/40: 0.905 f_t), onset at 0 R."""
     c = _run(tmp_path, "30")["cases"]["D30"]

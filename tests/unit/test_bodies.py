@@ -227,3 +227,50 @@ def test_a_body_name_is_a_node_set_for_conditions_and_probes():
                                "component": "x"}]}  # fmt: skip
     deck = dk.parse_deck(d)
     assert deck.output.probes[0].set == "aggregate"
+
+
+def test_composite_tangent_with_an_interface_is_the_dense_finite_difference_tangent():
+    """Oracle: every column by central differences of the pure force (no colouring)."""
+    cloud, n0, within, across = _two_blocks()
+    mat = BondBasedMaterial(70e9, 2700.0)
+    c0 = mat.micromodulus_constant(2, 3.015 * DX, DX, "stress")
+    parts = (
+        BodyPart("a", 0, n0, mat, CriticalStretch(1.0)),
+        BodyPart("b", n0, cloud.n_points, MATERIALS["lps"](20e9, 0.25, 1000.0), CriticalStretch(1.0)),
+    )
+    iface = InterfaceBonds("a/b", across, 0.7 * c0, 1.0)
+    model = Model(
+        cloud, within, BodiesMaterial(parts, (iface,)), BodiesDamage(parts), surface_correction=True
+    )
+    s = model.new_state()
+    rng = np.random.default_rng(11)
+    s.u[...] = rng.normal(0, 1e-3 * DX, s.u.shape)
+    k = model.tangent(s).toarray()
+    n, d = s.u.shape
+    h = 1e-6 * DX
+    dense = np.empty((n * d, n * d))
+    for col in range(n * d):
+        i, c = divmod(col, d)
+        u0 = s.u[i, c]
+        s.u[i, c] = u0 + h
+        model.evaluate(s, commit=False)
+        fp = (cloud.volume[:, None] * s.force).reshape(-1)
+        s.u[i, c] = u0 - h
+        model.evaluate(s, commit=False)
+        fm = (cloud.volume[:, None] * s.force).reshape(-1)
+        s.u[i, c] = u0
+        dense[:, col] = -(fp - fm) / (2 * h)
+    assert np.abs(k - dense).max() < 1e-6 * np.abs(dense).max()
+
+
+def test_static_solve_of_two_bodies_with_an_interface_converges_like_one_body():
+    d = copy.deepcopy(DECK)
+    d["boundary_conditions"][1] = {
+        "type": "displacement", "set": "right", "components": {"x": 2e-5},
+        "time_function": {"type": "ramp", "end": 1.0},
+    }  # fmt: skip
+    d["solver"] = {"type": "static", "load_steps": 2}
+    sim = Simulation.from_deck(dk.parse_deck(d))
+    s = sim.solver.init()
+    r = sim.solver.step(s)
+    assert r.converged and r.iterations <= 3
