@@ -25,7 +25,16 @@ def _script():
 def test_coarse_striker_runs_and_the_ball_is_stopped(tmp_path: Path) -> None:
     """1 mm grid for 15 us (6 400 points), one jittered seed: the ball touches the plate, slows
     down and breaks bonds under the impact; the figure and the numbers are written."""
-    args = ["--seeds", "1", "--out", str(tmp_path), "--set", "discretisation.spacing=1.0e-3", "--set", "solver.end_time=1.5e-5"]
+    args = [
+        "--seeds",
+        "1",
+        "--out",
+        str(tmp_path),
+        "--set",
+        "discretisation.spacing=1.0e-3",
+        "--set",
+        "solver.end_time=1.5e-5",
+    ]
     assert _script().main(args) == 0
     res = json.loads((tmp_path / "striker_plate.json").read_text())
     assert (tmp_path / "striker_plate.png").stat().st_size > 1000

@@ -93,7 +93,9 @@ def test_interface_force_is_minus_the_energy_gradient():
     iface = InterfaceBonds("a/b", across, 0.5 * 9 * 40e9 / (np.pi * DX * (3.015 * DX) ** 3), 1e-3)
     parts = (
         BodyPart("a", 0, n0, BondBasedMaterial(70e9, 2700.0), CriticalStretch(1.0)),
-        BodyPart("b", n0, cloud.n_points, MATERIALS["lps"](20e9, 0.25, 1000.0), CriticalStretch(1.0)),
+        BodyPart(
+            "b", n0, cloud.n_points, MATERIALS["lps"](20e9, 0.25, 1000.0), CriticalStretch(1.0)
+        ),
     )
     model = Model(
         cloud, within, BodiesMaterial(parts, (iface,)), BodiesDamage(parts), surface_correction=True
@@ -236,7 +238,9 @@ def test_composite_tangent_with_an_interface_is_the_dense_finite_difference_tang
     c0 = mat.micromodulus_constant(2, 3.015 * DX, DX, "stress")
     parts = (
         BodyPart("a", 0, n0, mat, CriticalStretch(1.0)),
-        BodyPart("b", n0, cloud.n_points, MATERIALS["lps"](20e9, 0.25, 1000.0), CriticalStretch(1.0)),
+        BodyPart(
+            "b", n0, cloud.n_points, MATERIALS["lps"](20e9, 0.25, 1000.0), CriticalStretch(1.0)
+        ),
     )
     iface = InterfaceBonds("a/b", across, 0.7 * c0, 1.0)
     model = Model(

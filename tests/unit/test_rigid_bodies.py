@@ -132,7 +132,9 @@ def test_platen_reaction_is_the_contact_force_sum_and_the_motion_is_prescribed()
     )  # fmt: skip
     force_ref = -(sim.cloud.volume[:, None] * ref[0]).sum(axis=0)
     assert force_ref[1] > 0  # the specimen pushes the platen up
-    assert s["rigid_force"][k, :2] == pytest.approx(force_ref, rel=1e-12, abs=1e-12 * abs(force_ref[1]))
+    assert s["rigid_force"][k, :2] == pytest.approx(
+        force_ref, rel=1e-12, abs=1e-12 * abs(force_ref[1])
+    )
     # equal and opposite: the floor carries the platen's load once the wave has settled
     assert -s["rigid_force"][rigid.index("floor"), 1] == pytest.approx(force_ref[1], rel=0.5)
 
