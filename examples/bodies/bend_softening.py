@@ -23,9 +23,10 @@ Measured per run:
   load-point displacement its downward displacement, CMOD = u_x(mouth_right) -
   u_x(mouth_left) (probes of the bottom points either side of the notch);
 * the peak load, the displacement and CMOD at the peak, the last load / peak; and the
-  largest load before the load first falls below 80 % of its running maximum (for a
-  brittle beam the impacts of the broken halves on the roller come later and can be
-  higher: this one is compared with LEFM);
+  largest load before the load first falls below 80 % of its running maximum past half
+  the peak (for a brittle beam the impacts of the broken halves on the roller come
+  later and can be higher: this one is compared with LEFM), and the displacement over
+  which the load then falls to 40 % of it (how abrupt the drop is);
 * the work of fracture W_F = the area under P(load-point displacement) over the whole run
   (trapezoids, nothing extrapolated) against G_F t (D - a0) (RILEM 50-FMC);
 * LEFM: P = K_IC t D^(3/2) / (S f(a0/D)), K_IC = sqrt(E G_F) (plane stress), f of
@@ -34,6 +35,8 @@ Measured per run:
   P_e = f_t t (D - a0)^2 / (1.5 S) (first cracking at the notch tip if there were no
   stress concentration) and the rigid-plastic limit P_p = 2 f_t t (D - a0)^2 / S (the
   whole ligament at f_t, the compression resultant at the top);
+* the kinetic and strain energy left at the end (a brittle beam's broken halves rattle
+  between the rollers: that energy and the impacts are not a softening tail);
 * the equilibrium of the rollers: max |P + R_left + R_right| after the ramp-in, over
   the peak load (the dynamic wobble), and results.max_kinetic_to_strain_energy.
 """
@@ -149,8 +152,13 @@ def curves(folder: Path) -> dict[str, np.ndarray]:
         "disp": -np.asarray(rb["pin"]["displacement_m"])[:, 1],
         "supports": np.asarray(rb["support_left"]["force_N"])[:, 1]
         + np.asarray(rb["support_right"]["force_N"])[:, 1],
-        "cmod": np.asarray(h["mouth_right_ux"]["values"]) - np.asarray(h["mouth_left_ux"]["values"]),
+        "cmod": np.asarray(h["mouth_right_ux"]["values"])
+        - np.asarray(h["mouth_left_ux"]["values"]),
         "top_uy": np.asarray(h["top_uy"]["values"]),
+        "kinetic": np.interp(
+            rb["time_s"], r["history"]["time_s"], r["history"]["kinetic_energy_J"]
+        ),
+        "strain": np.interp(rb["time_s"], r["history"]["time_s"], r["history"]["strain_energy_J"]),
     }
 
 
@@ -166,11 +174,15 @@ def analyse(folder: Path, est: dict[str, float], ramp_end: float) -> dict[str, A
     wobble = np.abs(load + c["supports"])[after]
     drops = np.diff(cmod[k:])
     # the load before the beam breaks: the largest load before it first falls below 80 %
-    # of the running maximum (a brittle beam's broken halves later hit the roller: those
-    # impacts can exceed it)
+    # of the running maximum, once that maximum is past half the peak (a brittle beam's
+    # broken halves later hit the roller: those impacts can exceed it)
     running = np.maximum.accumulate(load)
-    fell = np.flatnonzero(load < 0.8 * running)
-    onset = float(running[fell[0]]) if fell.size else peak
+    fell = np.flatnonzero((load < 0.8 * running) & (running > 0.5 * peak))
+    k_on = int(np.argmax(load[: fell[0]])) if fell.size else k
+    onset = float(load[k_on])
+    # how abruptly the load falls: the displacement from there to 40 % of that load
+    below = np.flatnonzero(load[k_on:] < 0.4 * onset)
+    width = float(disp[k_on + below[0]] - disp[k_on]) if below.size else None
     return {
         "n_points": res["n_points"],
         "spacing_m": res["spacing_m"],
@@ -179,6 +191,8 @@ def analyse(folder: Path, est: dict[str, float], ramp_end: float) -> dict[str, A
         "steps": res["steps"],
         "peak_load_N": peak,
         "peak_before_first_drop_N": onset,
+        "displacement_at_that_peak_m": float(disp[k_on]),
+        "drop_to_40pct_displacement_m": width,
         "displacement_at_peak_m": float(disp[k]),
         "cmod_at_peak_m": float(cmod[k]),
         "final_displacement_m": float(disp[-1]),
@@ -191,6 +205,8 @@ def analyse(folder: Path, est: dict[str, float], ramp_end: float) -> dict[str, A
         "largest_cmod_decrease_after_peak_m": max(0.0, float(-drops.min())) if drops.size else 0.0,
         "max_reaction_imbalance_over_peak": float(wobble.max() / peak) if wobble.size else 0.0,
         "max_kinetic_to_strain_energy": res["max_kinetic_to_strain_energy"],
+        "final_kinetic_energy_J": float(c["kinetic"][-1]),
+        "final_strain_energy_J": float(c["strain"][-1]),
         "bonds_broken": res["bonds_broken"],
         "wall_s": summ["timing"]["wall_s"],
     }
@@ -202,12 +218,20 @@ def plot(path: Path, runs: dict[str, Path], est: dict[str, float]) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.2), layout="constrained")
+    fig, (a1, a2, a3) = plt.subplots(
+        1, 3, figsize=(15, 4.2), layout="constrained", width_ratios=[1.0, 1.0, 0.8]
+    )
     for label, folder in runs.items():
         c = curves(folder)
         kw = {"lw": 0.7, "alpha": 0.7} if label.startswith("brittle") else {"lw": 1.4}
         a1.plot(c["disp"] * 1e3, c["load"], label=label, **kw)
         a2.plot(c["cmod"] * 1e3, c["load"], label=label, **kw)
+        a3.semilogy(c["disp"][1:] * 1e3, c["kinetic"][1:], label=label, **kw)
+    a3.set_xlabel("load-point displacement (mm)")
+    a3.set_ylabel("kinetic energy (J)")
+    a3.set_ylim(bottom=1e-6)
+    a3.grid(alpha=0.3)
+    a3.set_title("kinetic energy of the beam", fontsize=10)
     for ax in (a1, a2):
         ax.axhline(est["P_lefm_N"], color="k", lw=0.8, ls=":")
         ax.axhline(est["P_rigid_plastic_N"], color="0.5", lw=0.8, ls="-.")
@@ -247,8 +271,12 @@ def main(argv: list[str] | None = None) -> int:
         for law in args.laws:
             dx = float(deck_for(law, spacing, args.sets)["discretisation"]["spacing"])
             folder = run_dir(args.out, law, dx)
-            if not (args.no_run or (args.reuse and (folder / "summary.json").exists())):
+            done = (folder / "summary.json").exists()
+            if not (args.no_run or (args.reuse and done)):
                 run(law, spacing, args.out, args.sets)
+            elif not done:
+                print(f"{folder}: not run (skipped)")
+                continue
             runs[f"{law} dx={dx * 1e3:g} mm"] = folder
     res = {
         "deck": DECK.name,

@@ -738,6 +738,9 @@ class Simulation:
         for group in m.force_model.dofs()[1:]:  # micropolar: theta (rad), moment (N m/m^3)
             extra_fields[group.value] = s[group.value]
             extra_fields[group.force] = s[group.force]
+        for name in ("interface_intact", "bond_kappa"):  # several bodies, softening bonds
+            if name in s:
+                extra_fields[name] = s[name]
         np.savez(
             ctx.out / "final_state.npz",
             u=s.u,

@@ -226,8 +226,11 @@ def build_rigid_system(
             vel = np.zeros(cloud.dim) if spec.velocity is None else np.asarray(spec.velocity)
             if vel.shape != (cloud.dim,):
                 raise ValueError(f"velocity needs {cloud.dim} components, got {len(vel)}")
-            if spec.touch:
-                shift = touching_shift(shape, cloud.x, vel / np.linalg.norm(vel), 0.5 * d_c)
+            if spec.touch is not False:
+                way = vel if spec.touch is True else np.asarray(spec.touch, dtype=float)
+                if way.shape != (cloud.dim,):
+                    raise ValueError(f"touch needs {cloud.dim} components, got {len(way)}")
+                shift = touching_shift(shape, cloud.x, way / np.linalg.norm(way), 0.5 * d_c)
                 shape = moved_shape(shape, shift)
                 center = center + shift
                 seating[spec.name] = shift.tolist()

@@ -144,8 +144,9 @@ class RigidBodySpec(Strict):
     times ``time_function`` (default 1); ``motion: free`` integrates its translation and
     rotation under the contact forces from ``velocity`` / ``angular_velocity`` at t = 0,
     with the mass of ``density`` times its volume. ``touch: true`` first moves the body
-    along its velocity until it just touches the deformable points (seating), so the gap
-    a grid leaves below a curved or offset surface does not delay the loading."""
+    along its velocity (``touch: [direction]``: along that vector) until it just touches
+    the deformable points (seating), so the gap a grid leaves below a curved or offset
+    surface does not delay the loading."""
 
     name: Name
     shape: RigidShapeSpec
@@ -154,7 +155,7 @@ class RigidBodySpec(Strict):
     time_function: TimeFunctionSpec | None = None
     angular_velocity: list[Finite] | None = None
     density: PosFloat | None = None
-    touch: bool = False
+    touch: bool | list[Finite] = False
     friction_static: NonNegFloat | None = None
     friction_kinetic: NonNegFloat | None = None
 
@@ -172,8 +173,13 @@ class RigidBodySpec(Strict):
                 raise ValueError("[shape] a plane has no finite mass: it cannot be free")
         elif self.angular_velocity is not None:
             raise ValueError("[angular_velocity] only a free rigid body rotates")
-        if self.touch and (self.velocity is None or not any(self.velocity)):
-            raise ValueError("[touch] moves the body along its velocity: give a velocity")
+        if self.touch is True and (self.velocity is None or not any(self.velocity)):
+            raise ValueError(
+                "[touch] true moves the body along its velocity: give a velocity, or give "
+                "touch a direction (a vector, e.g. [0, 1] for a fixed support below)"
+            )
+        if isinstance(self.touch, list) and not any(self.touch):
+            raise ValueError("[touch] the direction must not be zero")
         if self.touch and self.shape.points is not None:
             raise ValueError("[touch] works with analytic shapes (plane, box, sphere, cylinder)")
         fs, fk = self.friction_static, self.friction_kinetic
