@@ -381,17 +381,10 @@ def test_single_body_point_equals_sphere_of_radius_rc(dim: int) -> None:
     assert points.energy(y, vol, pose) == pytest.approx(sphere.energy(y, vol, pose), rel=1e-12)
 
 
-@pytest.mark.skip(
-    reason="does not hold: a densely sampled face acts with the pair law summed over the "
-    "face points within d_c, in 3-D (V_k / s^2) pi c_s h (d_c - h)^2 / d_c at height h, "
-    "quadratic in the penetration d_c - h, not linear as the wall law; only a single "
-    "body point matches an analytic shape (the sphere test above)"
-)
-def test_dense_face_of_points_equals_analytic_box() -> None:
-    raise AssertionError
-
-
-# -- argument checks -------------------------------------------------------------------
+# A densely sampled face of points does NOT equal the analytic wall law: it acts with the
+# pair law summed over the face points within d_c, in 3-D (V_k / s^2) pi c_s h
+# (d_c - h)^2 / d_c at height h, quadratic in the penetration d_c - h, not linear as the
+# wall law; only a single body point matches an analytic shape (the sphere test above).
 
 
 def test_arguments() -> None:
