@@ -29,8 +29,10 @@ from numba import njit, prange
 #: fast-math without the no-NaN / no-inf assumptions: a point flown to inf or NaN must
 #: still fail the contact and grid-range tests (an out-of-grid cell index would read out
 #: of bounds)
-FAST = {"nsz", "arcp", "contract", "afn", "reassoc"}
-_hot = njit(parallel=True, fastmath=FAST, error_model="numpy", cache=True)
+# strict floating point: with fast-math, a kernel compiled in the process and the same
+# kernel loaded from Numba's cache gave different bits (a resumed run then differed from
+# an uninterrupted one; tests/regression/test_bodies_checkpoint.py with a cold cache)
+_hot = njit(parallel=True, fastmath=False, error_model="numpy", cache=True)
 #: columns of the per-point reduction rows: force on the body (3), torque about c (3),
 #: friction power, contact flag
 N_ROW = 8

@@ -28,7 +28,6 @@ import numpy as np
 from numba import njit, prange
 
 from peridynamics.kernels.rigid_contact import (
-    FAST,
     N_ROW,
     _cross,
     _rotate,
@@ -37,7 +36,10 @@ from peridynamics.kernels.rigid_contact import (
     friction,
 )
 
-_hot = njit(parallel=True, fastmath=FAST, error_model="numpy", cache=True)
+# strict floating point: with fast-math, a kernel compiled in the process and the same
+# kernel loaded from Numba's cache gave different bits (a resumed run then differed from
+# an uninterrupted one; tests/regression/test_bodies_checkpoint.py with a cold cache)
+_hot = njit(parallel=True, fastmath=False, error_model="numpy", cache=True)
 
 
 @njit(inline="always")
