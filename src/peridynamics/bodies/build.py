@@ -151,9 +151,7 @@ def split_bonds(
     return within, body
 
 
-def interface_micromodulus(
-    material_a: Any, material_b: Any, factor: float, cloud: PointCloud, horizon: float
-) -> BondBasedMaterial:
+def interface_micromodulus(material_a: Any, material_b: Any, factor: float) -> BondBasedMaterial:
     """The PMB material of an interface: E_I = factor x 2 E_A E_B / (E_A + E_B) (two
     half-bonds in series), density unused."""
     ea, eb = float(material_a.youngs_modulus), float(material_b.youngs_modulus)
@@ -192,9 +190,7 @@ def build_interfaces(
                 f"{path}: bodies {spec.bodies[0]!r} and {spec.bodies[1]!r} are farther apart "
                 "than the horizon: no interface bond; use type 'contact' or move them"
             )
-        mat = interface_micromodulus(
-            materials[a], materials[b], spec.stiffness_factor, cloud, bonds_all.horizon
-        )
+        mat = interface_micromodulus(materials[a], materials[b], spec.stiffness_factor)
         c_i = mat.micromodulus_constant(
             cloud.dim, bonds_all.horizon, cloud.cross_section, cloud.plane
         )

@@ -434,15 +434,10 @@ class BodiesMaterial:
 
 @dataclass(frozen=True)
 class BodiesDamage:
-    """The damage criteria of several bodies (``law`` needs the composite model: the
-    evaluator builds it after the force model)."""
+    """The damage criteria of several bodies. Their law needs the composite model, so
+    the evaluator builds it after the force model (:meth:`law_for`, not ``law``)."""
 
     parts: tuple[BodyPart, ...]
-
-    def law(
-        self, x: NDArray[np.float64], bonds: Bonds, global_ids: NDArray[np.int64] | None = None
-    ) -> DamageLaw:
-        raise TypeError("BodiesDamage.law needs the composite force model: use law_for")
 
     def law_for(self, model: CompositeForceModel) -> CompositeDamageLaw:
         """One law per body on its own points and bonds (random fields drawn by the

@@ -66,7 +66,7 @@ def body_layout(deck: dk.Deck, cloud: PointCloud) -> BodyLayout:
     return BodyLayout(names, tuple(starts))
 
 
-def _local_no_fail(cloud: PointCloud, start: int, stop: int) -> PointCloud:
+def _body_cloud(cloud: PointCloud, start: int, stop: int) -> PointCloud:
     """The body's own points as a cloud, with the deck's node sets restricted to it."""
     sub = sub_cloud(cloud, start, stop)
     sets = {}
@@ -115,7 +115,7 @@ def build_bodies_model(
         except SetupError as exc:
             raise SetupError(key, str(exc).split(": ", 1)[-1]) from None
         start, stop = layout.range_of(k)
-        local = _local_no_fail(cloud, start, stop)
+        local = _body_cloud(cloud, start, stop)
         damage = build_damage(d_spec, m_spec, material, local, sub_bonds(bonds, start, stop))
         parts.append(BodyPart(name, start, stop, material, damage))
         materials.append(material)

@@ -189,9 +189,9 @@ class RigidSystem:
         d = x.shape[1]
         power = 0.0
         for k, b in enumerate(self.bodies):
-            rot = s["rigid_rotation"][k].reshape(3, 3)[:d, :d]
-            c = b.center[:d] + s["rigid_position"][k, :d]
             rot3 = s["rigid_rotation"][k].reshape(3, 3)
+            rot = rot3[:d, :d]
+            c = b.center[:d] + s["rigid_position"][k, :d]
             omega = b.omega(rot3, s["rigid_momentum"][k])
             f_body, torque, p, _ = b.contact.evaluate(
                 y, v, self.volume, self.density, np.ascontiguousarray(rot), c,

@@ -16,7 +16,6 @@ those.
 
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 from pydantic import Field, model_validator
@@ -255,20 +254,10 @@ def geometry_dim_of(g: Any) -> int:
     return geometry_dim(g)
 
 
-def friction_pair(static: float | None, kinetic: float | None) -> tuple[float, float]:
-    """(mu_s, mu_k), both 0 when not given."""
-    s = 0.0 if static is None else float(static)
-    k = 0.0 if kinetic is None else float(kinetic)
-    if not (math.isfinite(s) and math.isfinite(k)):
-        raise ValueError("friction coefficients must be finite")
-    return s, k
-
-
 __all__ = [
     "BodySpec",
     "InterfaceSpec",
     "RigidBodySpec",
     "RigidShapeSpec",
     "bodies_errors",
-    "friction_pair",
 ]
