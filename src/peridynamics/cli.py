@@ -1,4 +1,4 @@
-"""Command line: ``peridynamics run|check|examples|bench|dispersion|ensemble|help``.
+"""Command line: ``peridynamics run|check|examples|bench|dispersion|ensemble|sweep|help``.
 
 Exit codes: 0 success; 2 invalid deck or model set-up (the key path is on stderr), a
 model too large for this machine, bad arguments; 3 the run went unstable (a summary and
@@ -414,6 +414,13 @@ def cmd_ensemble(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_sweep(args: argparse.Namespace) -> int:
+    """Run a deck over a grid or a list of parameter values (``peridynamics.sweep``)."""
+    from peridynamics.sweep import cmd_sweep as run_sweep
+
+    return run_sweep(args)
+
+
 def cmd_examples(args: argparse.Namespace) -> int:
     """List the examples or copy one to a folder."""
     ex = list_examples()
@@ -760,6 +767,40 @@ def build_parser() -> argparse.ArgumentParser:
     large_arg(en)
     en.set_defaults(func=cmd_ensemble)
 
+    sw = sub.add_parser(
+        "sweep",
+        help="run a deck over a grid or a list of parameter values (docs/sweep.md)",
+        epilog="exit codes:\n  0    every case completed (or was done before)\n  2    bad "
+        "arguments or an invalid case (nothing was run)\n  4    some case failed or went "
+        "unstable (the others ran; see sweep.csv)\n  130  interrupted (Ctrl-C or SIGTERM): "
+        "run the same command again to continue",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    deck_args(sw)
+    sw.add_argument(
+        "--grid",
+        action="append",
+        metavar="KEY.PATH=V1,V2,...",
+        help="values of a deck key (repeatable: the cases are the Cartesian product), "
+        "e.g. discretisation.spacing=1e-3,5e-4",
+    )
+    sw.add_argument(
+        "--cases", metavar="FILE", help="cases from a file: YAML list of {key.path: value}, or CSV"
+    )
+    sw.add_argument("--jobs", type=int, default=1, metavar="N", help="cases run at a time")
+    sw.add_argument("--out", metavar="DIR", help="output folder (default results/<name>_sweep)")
+    sw.add_argument("--plot", metavar="COL,COL", help="sweep.csv columns drawn in sweep.png")
+    sw.add_argument(
+        "--checkpoint-every",
+        type=int,
+        metavar="N",
+        help="passed to each run: an interrupted case resumes from its checkpoint",
+    )
+    sw.add_argument("--dry-run", action="store_true", help="validate and list the cases only")
+    sw.add_argument("--quiet", action="store_true", help="no progress lines or table")
+    large_arg(sw)
+    sw.set_defaults(func=cmd_sweep)
+
     c = sub.add_parser("check", help="validate a deck without running (exit 0 valid, 2 not)")
     deck_args(c)
     c.add_argument(
@@ -824,8 +865,22 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+def _format_warning(
+    message: Warning | str,
+    category: type[Warning],
+    filename: str,
+    lineno: int,
+    line: str | None = None,
+) -> str:
+    return f"warning: {message}\n"
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``peridynamics`` console script."""
+    import warnings
+
+    # warnings of the package read as messages, not as source lines
+    warnings.formatwarning = _format_warning  # type: ignore[assignment]
     args = build_parser().parse_args(argv)
     try:
         return int(args.func(args))

@@ -14,7 +14,7 @@ import signal
 import threading
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -31,7 +31,16 @@ from peridynamics.bodies.from_deck import (
 from peridynamics.bonds import build_bonds, make_crack
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.damage import NO_DAMAGE, CriticalStretch, SEDSoftening, WeibullField
-from peridynamics.geometry import PointCloud, bar, box, cylinder, from_mesh, rectangle
+from peridynamics.geometry import (
+    Notch,
+    PointCloud,
+    bar,
+    box,
+    cylinder,
+    disc,
+    from_mesh,
+    rectangle,
+)
 from peridynamics.io import deck as dk
 from peridynamics.io.checkpoint import (
     CHECKPOINT_NAME,
@@ -39,7 +48,8 @@ from peridynamics.io.checkpoint import (
     read_checkpoint_meta,
     write_checkpoint,
 )
-from peridynamics.io.observers import Observer, RunContext, VTKFrames, new_records, observers_for
+from peridynamics.io.observers import Observer, RunContext, new_records, observers_for
+from peridynamics.io.observers_frames import VTKFrames
 from peridynamics.io.regions import to_region
 from peridynamics.io.summary import write_summary
 from peridynamics.loading import conditions as bc
@@ -73,7 +83,7 @@ def geometry_cloud(g: Any, d: dk.Discretisation) -> PointCloud:
         if d.jitter > 0 and isinstance(g, dk.BarGeometry | dk.MeshGeometry):
             kind = "bar" if isinstance(g, dk.BarGeometry) else "mesh"
             raise ValueError(
-                f"discretisation.jitter = {d.jitter} needs a rectangle, box or cylinder "
+                f"discretisation.jitter = {d.jitter} needs a rectangle, disc, box or cylinder "
                 f"geometry, not a {kind} (a mesh's points are its cell centroids); set "
                 "discretisation.jitter: 0"
             )
@@ -87,6 +97,17 @@ def geometry_cloud(g: Any, d: dk.Discretisation) -> PointCloud:
                 dx,
                 thickness=g.thickness,
                 origin=g.origin,
+                plane=g.plane,
+                holes=[to_region(h) for h in g.holes],
+                jitter=d.jitter,
+                seed=d.seed,
+            )
+        elif isinstance(g, dk.DiscGeometry):
+            cloud = disc(
+                g.radius,
+                dx,
+                center=g.center,
+                thickness=g.thickness,
                 plane=g.plane,
                 holes=[to_region(h) for h in g.holes],
                 jitter=d.jitter,
@@ -118,13 +139,47 @@ def geometry_cloud(g: Any, d: dk.Discretisation) -> PointCloud:
     return cloud
 
 
+def deck_notches(deck: dk.Deck) -> list[Notch]:
+    """The deck's ``notches`` as :class:`~peridynamics.geometry.Notch` objects."""
+    out = []
+    for n, spec in enumerate(deck.notches):
+        try:
+            out.append(Notch(spec.start, spec.end, spec.width, spec.tip, spec.z))
+        except ValueError as exc:
+            raise SetupError(f"notches.{n}", str(exc)) from None
+    return out
+
+
+def _cut_notches(
+    deck: dk.Deck, cloud: PointCloud, body_sets: dict[str, NDArray[np.intp]]
+) -> tuple[PointCloud, dict[str, NDArray[np.intp]]]:
+    """Remove the points inside the deck's notches (every body's); the body node sets
+    are re-indexed (each body stays contiguous)."""
+    notches = deck_notches(deck)
+    if not notches:
+        return cloud, body_sets
+    cut = cloud.with_node_sets(**body_sets)
+    for n, notch in enumerate(notches):
+        try:
+            cut = cut.remove(notch.region())
+        except ValueError as exc:
+            raise SetupError(f"notches.{n}", str(exc)) from None
+    for name in body_sets:
+        if cut.node_sets[name].size == 0:
+            raise SetupError("notches", f"the notches remove every point of body {name!r}")
+    return cut, {name: cut.node_sets[name] for name in body_sets}
+
+
 def build_cloud(deck: dk.Deck) -> PointCloud:
     """Geometry section (and further bodies) -> PointCloud with the deck's node sets
-    (plus 'all' and one set per body of a deck with ``bodies``)."""
+    (plus 'all' and one set per body of a deck with ``bodies``); the points inside the
+    deck's ``notches`` are removed before the node sets are built."""
     cloud = geometry_cloud(deck.geometry, deck.discretisation)
     body_sets: dict[str, NDArray[np.intp]] = {}
     if has_bodies(deck):
+        fit = cloud.grid_fit
         cloud, layout = build_body_points(deck, cloud)
+        cloud = replace(cloud, grid_fit=fit)
         body_sets = layout.node_sets()
         clash = sorted(set(body_sets) & set(deck.node_sets))
         if clash:
@@ -134,6 +189,7 @@ def build_cloud(deck: dk.Deck) -> PointCloud:
             )
         if "all" in body_sets:
             raise SetupError("bodies", "'all' is built in (every point); rename the body")
+    cloud, body_sets = _cut_notches(deck, cloud, body_sets)
     sets: dict[str, NDArray[np.intp]] = {"all": np.arange(cloud.n_points), **body_sets}
     visiting: set[str] = set()
 
@@ -400,10 +456,19 @@ def _initial_field(
 
 
 def build_bonds_for(deck: dk.Deck, cloud: PointCloud) -> Bonds:
-    """Bonds with partial volumes and pre-cracks."""
+    """Bonds with partial volumes, pre-cracks and the bonds across notches cut.
+
+    A notch cuts like a pre-crack along its centre line (``Notch.crack``); in 3-D a
+    notch without a z-range cuts over the body's z-extent widened by one spacing."""
     d = deck.discretisation
+    notches = deck_notches(deck)
+    z_bounds = None
+    if notches and cloud.dim == 3:
+        lo, hi = cloud.bounds
+        z_bounds = (float(lo[2]) - cloud.spacing, float(hi[2]) + cloud.spacing)
     try:
         cracks = [make_crack(c.points) for c in deck.precracks]
+        cracks += [notch.crack(z_bounds) for notch in notches]
         return build_bonds(cloud, d.delta, d.partial_volume, cracks)
     except ValueError as exc:
         raise SetupError("discretisation", str(exc)) from None
@@ -768,6 +833,8 @@ class Simulation:
             "strain_energy_J": strain,
             "damaged_area_fraction": float(np.mean(damage >= 0.3)),
         }
+        if self.cloud.grid_fit:  # lengths that were not whole multiples of the spacing
+            results["geometry_fit"] = [f.as_dict() for f in self.cloud.grid_fit]
         files: list[str] = []
         for ob in observers:
             files += ob.finalize(ctx, s, results)

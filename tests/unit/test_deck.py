@@ -736,7 +736,7 @@ MALFORMED = [
         "plot-kind",
         setp("output.plot", "contour"),
         "output.plot",
-        "'auto', 'damage', 'probes' or 'none'",
+        "'auto', 'none', one of 'damage', 'deformed', 'probes'",
     ),
     # -- NaN / inf in finite fields
     ("E-nan", setp("material.youngs_modulus", NAN), "material.youngs_modulus", "finite number"),
@@ -1042,10 +1042,16 @@ def test_node_set_cycle_is_a_setup_error() -> None:
     assert info.value.path in ("node_sets.a", "node_sets.b")
 
 
-def test_size_not_multiple_of_spacing_is_a_setup_error() -> None:
+def test_size_not_multiple_of_spacing_is_fitted_and_below_it_is_a_setup_error() -> None:
+    from peridynamics.geometry import GeometryFitWarning
+
     data = base_deck()
     data["geometry"]["size"] = [0.0103, 0.005]
-    with pytest.raises(SetupError, match="not a whole multiple of spacing") as info:
+    with pytest.warns(GeometryFitWarning, match="not a whole multiple of the spacing"):
+        cloud = build_cloud(parse_deck(data))
+    assert cloud.n_points == 20 * 10 and cloud.grid_fit[0].key == "size[0]"
+    data["geometry"]["size"] = [0.0103, 0.0004]
+    with pytest.raises(SetupError, match="shorter than the spacing") as info:
         build_cloud(parse_deck(data))
     assert info.value.path == "geometry"
 

@@ -153,8 +153,11 @@ def test_bar_generators():
     c2 = bar(0.01, 1e-3, nodes_on_boundary=True)
     assert c2.n_points == 11
     np.testing.assert_allclose(c2.x[:, 0], np.arange(11) * 1e-3, atol=1e-15)
-    with pytest.raises(ValueError, match="multiple"):
-        bar(0.01, 3e-3)
+    with pytest.warns(UserWarning, match="not a whole multiple"):  # 3 cells, centred
+        c3 = bar(0.01, 3e-3)
+    np.testing.assert_allclose(c3.x[:, 0], 0.0005 + (np.arange(3) + 0.5) * 3e-3, rtol=1e-14)
+    with pytest.raises(ValueError, match="shorter than the spacing"):
+        bar(0.002, 3e-3)
 
 
 def test_rectangle_and_box_grids():

@@ -1,8 +1,10 @@
-"""Geometry: point clouds, grid generators, regions (node-set predicates), mesh import."""
+"""Geometry: point clouds, grid generators, regions (node-set predicates), notches, mesh
+import."""
 
-from peridynamics.geometry.cloud import PointCloud
-from peridynamics.geometry.generators import bar, box, cylinder, rectangle
+from peridynamics.geometry.cloud import GeometryFitWarning, GridFit, PointCloud
+from peridynamics.geometry.generators import bar, box, cylinder, disc, rectangle
 from peridynamics.geometry.mesh import from_mesh
+from peridynamics.geometry.notches import Notch
 from peridynamics.geometry.regions import (
     Ball,
     Box,
@@ -23,9 +25,12 @@ __all__ = [
     "Circle",
     "CylinderRegion",
     "Everywhere",
+    "GeometryFitWarning",
+    "GridFit",
     "HalfSpace",
     "Layer",
     "NearestPoint",
+    "Notch",
     "PointCloud",
     "Polygon",
     "Region",
@@ -33,6 +38,7 @@ __all__ = [
     "bar",
     "box",
     "cylinder",
+    "disc",
     "from_mesh",
     "rectangle",
 ]

@@ -14,6 +14,63 @@ from peridynamics.geometry.regions import Region
 Plane = Literal["stress", "strain"]
 
 
+class GeometryFitWarning(UserWarning):
+    """A nominal length is not a whole multiple of the spacing: the grid is shorter."""
+
+
+@dataclass(frozen=True)
+class GridFit:
+    """How a grid was fitted into a nominal length that is not a whole multiple of the
+    spacing: ``cells`` whole cells of side ``spacing``, centred in ``nominal``.
+
+    Attributes
+    ----------
+    key : str
+        The length's name in the generator (``"size[1]"``, ``"length"``).
+    nominal : float
+        The length asked for (m).
+    cells : int
+        Whole cells that fit, ``floor(nominal / spacing)``.
+    spacing : float
+        Grid spacing dx (m).
+    """
+
+    key: str
+    nominal: float
+    cells: int
+    spacing: float
+
+    @property
+    def grid_length(self) -> float:
+        """Length of the discrete body, ``cells * spacing`` (m)."""
+        return self.cells * self.spacing
+
+    @property
+    def margin(self) -> float:
+        """Gap left at each end, ``(nominal - grid_length) / 2`` (m)."""
+        return 0.5 * (self.nominal - self.grid_length)
+
+    def as_dict(self) -> dict[str, float | int | str]:
+        """The record written to ``summary.json`` (``results.geometry_fit``)."""
+        return {
+            "key": self.key,
+            "nominal_m": self.nominal,
+            "grid_m": self.grid_length,
+            "cells": self.cells,
+            "margin_m": self.margin,
+        }
+
+    def message(self) -> str:
+        """One line for the warning."""
+        return (
+            f"geometry {self.key} = {self.nominal:.6g} m is not a whole multiple of the "
+            f"spacing {self.spacing:.6g} m: the grid has {self.cells} cells "
+            f"({self.grid_length:.6g} m, {self.grid_length / self.nominal:.6f} of it), "
+            f"centred with a margin of {self.margin:.4g} m at each end; every point keeps "
+            "the volume of its cell"
+        )
+
+
 @dataclass(frozen=True)
 class PointCloud:
     """Discretised body.
@@ -37,6 +94,9 @@ class PointCloud:
         (jittered generators set it): corrections that assume the symmetry of the grid
         family (the axis energy method of the PMB surface correction) do not hold;
         :func:`peridynamics.bonds.surface.moment_correction_factors` does.
+    grid_fit : tuple of GridFit
+        The lengths of a grid generator that were not whole multiples of the spacing
+        (the grid is shorter and centred in them); empty when every length fitted.
     """
 
     x: NDArray[np.float64]
@@ -46,6 +106,7 @@ class PointCloud:
     plane: Plane | None = None
     node_sets: Mapping[str, NDArray[np.intp]] = field(default_factory=dict)
     irregular: bool = False
+    grid_fit: tuple[GridFit, ...] = ()
 
     def __post_init__(self) -> None:
         x = np.ascontiguousarray(np.atleast_2d(np.asarray(self.x, dtype=np.float64)))

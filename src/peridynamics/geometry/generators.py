@@ -1,7 +1,17 @@
-"""Grid generators for 1-D bars, 2-D plates and 3-D boxes and cylinders.
+"""Grid generators for 1-D bars, 2-D plates and discs, 3-D boxes and cylinders.
 
 Points sit at cell centres of a uniform grid of spacing ``dx`` unless
 ``nodes_on_boundary=True`` (1-D), where they sit on ``x_i = i dx`` as in Lu & Wang (2016).
+
+Lengths that are not whole multiples of ``dx`` (:func:`fit_cells`): a length L that is a
+multiple to a relative 1e-6 gets ``round(L / dx)`` cells starting at the origin, exactly
+as before. Any other L gets the ``n = floor(L / dx)`` whole cells that fit, centred in L
+(a margin of ``(L - n dx) / 2`` at both ends): the spacing stays ``dx`` and every point
+keeps its cell volume, so the discrete body is ``n dx`` long (the nominal length is not
+stretched). Each such length issues a :class:`GeometryFitWarning` and is recorded in
+``PointCloud.grid_fit``; ``L < dx`` is an error. The radius of a disc or a cylinder need
+not be a multiple: their grid has a cell corner on the centre (axis) and keeps the
+points inside the circle.
 
 Jittered grids (``jitter > 0``; rectangle, box, cylinder): every point of the full grid
 moves by an offset drawn uniformly from ``[-jitter dx, jitter dx]^dim`` by
@@ -30,6 +40,8 @@ correction: E -0.8 % instead of -1.6 % at jitter 0.25, -1.0 % instead of -2.6 % 
 from __future__ import annotations
 
 import itertools
+import math
+import warnings
 from collections.abc import Sequence
 from typing import Literal
 
@@ -37,29 +49,67 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import Voronoi
 
-from peridynamics.geometry.cloud import Plane, PointCloud
-from peridynamics.geometry.regions import CylinderRegion, Region
+from peridynamics.geometry.cloud import GeometryFitWarning, GridFit, Plane, PointCloud
+from peridynamics.geometry.regions import Ball, CylinderRegion, Region
 
 NodalVolumes = Literal["voronoi", "cell"]
 
 
-def _count(length: float, dx: float, what: str) -> int:
+def fit_cells(length: float, dx: float, what: str) -> tuple[int, GridFit | None]:
+    """Whole cells of side ``dx`` (m) that fit in ``length`` (m), and the fit record.
+
+    An exact multiple (``|round(L / dx) dx - L| <= 1e-6 L``) gives ``round(L / dx)``
+    cells and ``None``: the grid starts at the origin, as it always did. Otherwise
+    ``n = floor(L / dx)`` cells, centred in ``L``, and a :class:`GridFit` saying so.
+    ``L < dx`` (no whole cell fits) is a ``ValueError`` naming ``what``.
+    """
     if not length > 0:
         raise ValueError(f"{what} must be > 0, got {length}")
     if not dx > 0:
         raise ValueError(f"spacing must be > 0, got {dx}")
     n = int(round(length / dx))
-    if n < 1 or abs(n * dx - length) > 1e-6 * length:
+    if n >= 1 and abs(n * dx - length) <= 1e-6 * length:
+        return n, None
+    n = int(np.floor(length / dx))
+    if n < 1:
         raise ValueError(
-            f"{what} = {length} m is not a whole multiple of spacing {dx} m "
-            f"({length / dx:.6g} cells); choose a spacing that divides it"
+            f"{what} = {length} m is shorter than the spacing {dx} m: no whole grid cell "
+            f"fits; use a spacing <= {length} m"
         )
-    return n
+    return n, GridFit(what, float(length), n, float(dx))
 
 
-def _centres(lo: float, length: float, dx: float, what: str) -> NDArray[np.float64]:
-    n = _count(length, dx, what)
-    return np.asarray(lo + (np.arange(n) + 0.5) * dx, dtype=np.float64)
+def _axis(
+    lo: float, length: float, dx: float, what: str
+) -> tuple[NDArray[np.float64], float, GridFit | None]:
+    """Cell centres (n,) of the grid fitted into [lo, lo + length] (m), the grid's lower
+    end (m) and the fit record (``None`` for an exact multiple, then the centres are
+    ``lo + (k + 1/2) dx`` bit for bit)."""
+    n, fit = fit_cells(length, dx, what)
+    start = lo if fit is None else lo + fit.margin
+    return np.asarray(start + (np.arange(n) + 0.5) * dx, dtype=np.float64), start, fit
+
+
+def _grid(
+    origin: Sequence[float], size: Sequence[float], dx: float, names: Sequence[str]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], tuple[GridFit, ...]]:
+    """Cell centres (n, dim) of a box grid in grid order ("ij"), its lower and upper
+    corners (dim,) (m) and the fit records of the sides that are not multiples of dx."""
+    axes = [_axis(origin[k], size[k], dx, names[k]) for k in range(len(size))]
+    g = np.meshgrid(*(a[0] for a in axes), indexing="ij")
+    x = np.column_stack([a.ravel() for a in g])
+    lo = np.array([a[1] for a in axes], dtype=np.float64)
+    hi = lo + np.array([a[0].size for a in axes]) * dx
+    fits = tuple(a[2] for a in axes if a[2] is not None)
+    _warn(fits)
+    return x, lo, hi, fits
+
+
+def _warn(fits: Sequence[GridFit], level: int = 4) -> None:
+    """One :class:`GeometryFitWarning` per fitted length, attributed ``level`` frames up
+    (the caller of the public generator)."""
+    for fit in fits:
+        warnings.warn(fit.message(), GeometryFitWarning, stacklevel=level)
 
 
 def check_jitter(jitter: float, seed: int) -> None:
@@ -79,19 +129,31 @@ def bar(
     origin: float = 0.0,
     nodes_on_boundary: bool = False,
 ) -> PointCloud:
-    """1-D bar of cross-section ``area`` (m^2).
+    """1-D bar of cross-section ``area`` (m^2) from ``origin`` over ``length`` (m).
 
-    ``nodes_on_boundary=True`` puts ``length/dx + 1`` nodes at ``origin + i*dx`` (the end
-    nodes get the full volume ``area*dx``, as in Lu & Wang (2016), section 3); otherwise
-    ``length/dx`` nodes sit at cell centres.
+    ``nodes_on_boundary=True`` puts ``n + 1`` nodes at ``origin + i*dx`` (the end nodes
+    get the full volume ``area*dx``, as in Lu & Wang (2016), section 3); otherwise ``n``
+    nodes sit at cell centres ``origin + (i + 1/2) dx``. ``n = length / dx`` when the
+    length is a whole multiple of ``dx`` (relative tolerance 1e-6); otherwise
+    ``n = floor(length / dx)`` and the nodes are centred in the nominal length (a margin
+    of ``(length - n dx) / 2`` at both ends), each node keeping the volume ``area*dx``
+    (the discrete bar is ``n dx`` long), with a :class:`GeometryFitWarning` and the fit in
+    ``cloud.grid_fit``. A length below ``dx`` is a ``ValueError``.
     """
+    n, fit = fit_cells(length, dx, "length")
+    fits = () if fit is None else (fit,)
+    _warn(fits, level=3)
+    start = origin if fit is None else origin + fit.margin
     if nodes_on_boundary:
-        n = _count(length, dx, "length")
-        x = np.asarray(origin + np.arange(n + 1) * dx, dtype=np.float64)
+        x = np.asarray(start + np.arange(n + 1) * dx, dtype=np.float64)
     else:
-        x = _centres(origin, length, dx, "length")
+        x = np.asarray(start + (np.arange(n) + 0.5) * dx, dtype=np.float64)
     return PointCloud(
-        x=x[:, None], volume=np.full(len(x), area * dx), spacing=dx, cross_section=area
+        x=x[:, None],
+        volume=np.full(len(x), area * dx),
+        spacing=dx,
+        cross_section=area,
+        grid_fit=fits,
     )
 
 
@@ -111,7 +173,13 @@ def rectangle(
     Parameters
     ----------
     size : (Lx, Ly)
-        Side lengths (m), whole multiples of ``dx``.
+        Side lengths (m). A side that is a whole multiple of ``dx`` (relative tolerance
+        1e-6) gets ``L / dx`` cells from the origin. Otherwise it gets the
+        ``n = floor(L / dx)`` whole cells that fit, centred in ``L`` (a margin of
+        ``(L - n dx) / 2`` at both ends); the spacing stays ``dx``, every point keeps the
+        volume of its cell (the discrete side is ``n dx``), a
+        :class:`GeometryFitWarning` is issued and the fit is kept in ``cloud.grid_fit``.
+        A side below ``dx`` is a ``ValueError``.
     dx : float
         Grid spacing (m).
     thickness : float
@@ -129,12 +197,7 @@ def rectangle(
     volumes : {"voronoi", "cell"}
         Nodal volumes of a jittered grid (module docstring); ignored at ``jitter = 0``.
     """
-    xs = _centres(origin[0], size[0], dx, "size[0]")
-    ys = _centres(origin[1], size[1], dx, "size[1]")
-    gx, gy = np.meshgrid(xs, ys, indexing="ij")
-    x = np.column_stack([gx.ravel(), gy.ravel()])
-    lo = np.array([origin[0], origin[1]], dtype=np.float64)
-    hi = lo + np.array([xs.size, ys.size]) * dx
+    x, lo, hi, fits = _grid(origin, size, dx, ("size[0]", "size[1]"))
     x, vol = _jittered(x, dx, lo, hi, jitter, seed, volumes)
     cloud = PointCloud(
         x=x,
@@ -143,6 +206,7 @@ def rectangle(
         cross_section=thickness,
         plane=plane,
         irregular=bool(jitter > 0),
+        grid_fit=fits,
     )
     return _cut(cloud, holes)
 
@@ -158,16 +222,14 @@ def box(
 ) -> PointCloud:
     """3-D box ``size = (Lx, Ly, Lz)`` (m) of optionally jittered points, with cut-outs.
 
-    ``origin`` is the lowest corner (m); ``holes``, ``jitter``, ``seed`` and ``volumes``
-    as in :func:`rectangle` (nodal volumes in m^3).
+    ``origin`` is the lowest corner (m); a side that is not a whole multiple of ``dx``
+    is fitted as in :func:`rectangle` (whole cells, centred, volume ``dx^3`` each);
+    ``holes``, ``jitter``, ``seed`` and ``volumes`` as in :func:`rectangle` (nodal
+    volumes in m^3).
     """
-    axes = [_centres(origin[k], size[k], dx, f"size[{k}]") for k in range(3)]
-    g = np.meshgrid(*axes, indexing="ij")
-    x = np.column_stack([a.ravel() for a in g])
-    lo = np.asarray(origin, dtype=np.float64)
-    hi = lo + np.array([a.size for a in axes]) * dx
+    x, lo, hi, fits = _grid(origin, size, dx, ("size[0]", "size[1]", "size[2]"))
     x, vol = _jittered(x, dx, lo, hi, jitter, seed, volumes)
-    cloud = PointCloud(x=x, volume=vol, spacing=dx, irregular=bool(jitter > 0))
+    cloud = PointCloud(x=x, volume=vol, spacing=dx, irregular=bool(jitter > 0), grid_fit=fits)
     return _cut(cloud, holes)
 
 
@@ -182,23 +244,98 @@ def cylinder(
     volumes: NodalVolumes = "voronoi",
 ) -> PointCloud:
     """3-D solid cylinder with axis along z from ``origin`` (m): a cubic grid, jittered
-    over its bounding box, then cut to the cylinder (``radius``, ``length`` in m);
-    ``holes``, ``jitter``, ``seed`` and ``volumes`` as in :func:`rectangle`."""
+    over its bounding box, then cut to the cylinder (``radius``, ``length`` in m).
+
+    Radially the grid has a cell corner on the axis (``ceil(radius / dx)`` cells each
+    side) and keeps the points inside the circle, so the radius need not be a multiple
+    of ``dx``. Along z a ``length`` that is not a whole multiple of ``dx`` is fitted as
+    in :func:`rectangle` (``floor(length / dx)`` cells centred in the length, volume
+    ``dx^3`` each, a :class:`GeometryFitWarning`). ``holes``, ``jitter``, ``seed`` and
+    ``volumes`` as in :func:`rectangle`.
+    """
     if not radius > 0:
         raise ValueError("radius must be > 0")
     o = np.asarray(origin, dtype=float)
     n_r = int(np.ceil(radius / dx))
     span = 2 * n_r * dx
-    cloud = box(
-        (span, span, length),
-        dx,
-        origin=(o[0] - n_r * dx, o[1] - n_r * dx, o[2]),
-        jitter=jitter,
-        seed=seed,
-        volumes=volumes,
-    )
+    corner = (o[0] - n_r * dx, o[1] - n_r * dx, o[2])
+    x, lo, hi, fits = _grid(corner, (span, span, length), dx, ("span", "span", "length"))
+    x, vol = _jittered(x, dx, lo, hi, jitter, seed, volumes)
+    cloud = PointCloud(x=x, volume=vol, spacing=dx, irregular=bool(jitter > 0), grid_fit=fits)
     inside = CylinderRegion(base=o, axis=(0, 0, 1), radius=radius, length=length)
     return _cut(cloud, [~inside, *holes])
+
+
+def disc(
+    radius: float,
+    dx: float,
+    center: ArrayLike = (0.0, 0.0),
+    thickness: float = 1.0,
+    plane: Plane = "stress",
+    holes: Sequence[Region] = (),
+    jitter: float = 0.0,
+    seed: int = 0,
+    volumes: NodalVolumes = "voronoi",
+) -> PointCloud:
+    """2-D disc: the points of a square grid centred on the disc that lie inside it.
+
+    The grid has a cell *corner* at the centre: points at ``center + (i + 1/2) dx`` for
+    ``i = -N .. N - 1`` along both axes, ``N = ceil(radius / dx)``, so the cloud is
+    symmetric about both axes through the centre and under a quarter turn, a diameter
+    along x or y runs between two rows of points (a splitting crack along it is not
+    biased to either side), and a disc of radius ``R`` with ``2R / dx`` whole is the
+    ``rectangle`` of side ``2R`` around it minus the outside of the circle, the way
+    discs were built before. Points inside the circle (boundary included) are kept, each
+    with the volume ``dx^2 * thickness``; the discrete area ``n dx^2`` approximates
+    ``pi R^2`` (docs/deck.md gives measured ratios).
+
+    Parameters
+    ----------
+    radius : float
+        Disc radius R (m), at least ``dx / sqrt(2)`` (else no grid point lies inside).
+    dx : float
+        Grid spacing (m).
+    center : (xc, yc)
+        Disc centre (m).
+    thickness, plane, holes, jitter, seed, volumes
+        As in :func:`rectangle`. With ``jitter > 0`` the full square grid is jittered
+        and its Voronoi cells clipped to the square, then the circle is cut (as for the
+        cylinder): the volumes of points near the rim are their square-clipped cells,
+        not clipped to the circle.
+
+    Returns
+    -------
+    PointCloud
+        Points (n, 2) in m, volumes (n,) in m^3.
+    """
+    if not radius > 0:
+        raise ValueError(f"radius must be > 0, got {radius}")
+    if not dx > 0:
+        raise ValueError(f"spacing must be > 0, got {dx}")
+    if radius < dx / math.sqrt(2.0) * (1.0 - 1e-12):
+        raise ValueError(
+            f"radius = {radius} m is below spacing / sqrt(2) = {dx / math.sqrt(2.0):.6g} m: "
+            "no grid point lies inside the disc (the nearest are (+-dx/2, +-dx/2) from "
+            f"its centre); use a spacing <= {radius * math.sqrt(2.0):.6g} m"
+        )
+    c = np.asarray(center, dtype=np.float64)
+    if c.shape != (2,):
+        raise ValueError(f"center must be 2 coordinates [x, y], got shape {c.shape}")
+    n_r = max(1, int(np.ceil(radius / dx * (1.0 - 1e-9))))
+    offsets = (np.arange(-n_r, n_r) + 0.5) * dx  # exactly antisymmetric about 0
+    gx, gy = np.meshgrid(c[0] + offsets, c[1] + offsets, indexing="ij")
+    x = np.column_stack([gx.ravel(), gy.ravel()])
+    lo, hi = c - n_r * dx, c + n_r * dx
+    x, vol = _jittered(x, dx, lo, hi, jitter, seed, volumes)
+    cloud = PointCloud(
+        x=x,
+        volume=vol * thickness,
+        spacing=dx,
+        cross_section=thickness,
+        plane=plane,
+        irregular=bool(jitter > 0),
+    )
+    return _cut(cloud, [~Ball(c, radius), *holes])
 
 
 def _jittered(

@@ -34,6 +34,18 @@ from peridynamics.io.deck_bodies import (
     RigidShapeSpec,
     bodies_errors,
 )
+from peridynamics.io.deck_output import (
+    CrackPathSpec,  # noqa: F401 - re-exported
+    CrackTip,  # noqa: F401 - re-exported
+    Fracture,  # noqa: F401 - re-exported
+    Output,
+    Period,  # noqa: F401 - re-exported
+    Probe,  # noqa: F401 - re-exported
+    Quantity,  # noqa: F401 - re-exported
+    StressStrain,  # noqa: F401 - re-exported
+    WaveComparison,  # noqa: F401 - re-exported
+    output_errors,
+)
 from peridynamics.io.deck_types import (
     Component,
     Finite,
@@ -142,7 +154,9 @@ class RegionSpec(Strict):
 
 # -------------------------------------------------------------------------- geometry
 class BarGeometry(Strict):
-    """1-D bar."""
+    """1-D bar (a length off the spacing's multiples: the whole cells that fit, centred).
+
+    docs/deck.md, geometry, gives the fitting rule."""
 
     type: Literal["bar"]
     length: PosFloat
@@ -152,7 +166,10 @@ class BarGeometry(Strict):
 
 
 class RectangleGeometry(Strict):
-    """2-D rectangle with optional holes."""
+    """2-D rectangle with holes (sides off the spacing: the whole cells that fit, centred).
+
+    A side that is not a whole multiple of the spacing gets the floor(L / dx) cells that
+    fit, centred in it, each point keeping its cell volume (docs/deck.md, geometry)."""
 
     type: Literal["rectangle"]
     size: tuple[PosFloat, PosFloat]
@@ -163,7 +180,7 @@ class RectangleGeometry(Strict):
 
 
 class BoxGeometry(Strict):
-    """3-D box with optional cut-outs."""
+    """3-D box with optional cut-outs (sides fitted like a rectangle's: whole cells)."""
 
     type: Literal["box"]
     size: tuple[PosFloat, PosFloat, PosFloat]
@@ -172,12 +189,25 @@ class BoxGeometry(Strict):
 
 
 class CylinderGeometry(Strict):
-    """3-D solid cylinder along z."""
+    """3-D solid cylinder along z (any radius; the length gets the whole cells that fit)."""
 
     type: Literal["cylinder"]
     radius: PosFloat
     length: PosFloat
     origin: tuple[Finite, Finite, Finite] = (0.0, 0.0, 0.0)
+    holes: list[RegionSpec] = []
+
+
+class DiscGeometry(Strict):
+    """2-D disc: square-grid points inside the circle, a cell corner at the centre.
+
+    Any radius >= spacing / sqrt(2); every point has the volume spacing^2 x thickness."""
+
+    type: Literal["disc"]
+    radius: PosFloat
+    center: tuple[Finite, Finite] = (0.0, 0.0)
+    thickness: PosFloat = 1.0
+    plane: Literal["stress", "strain"] = "stress"
     holes: list[RegionSpec] = []
 
 
@@ -192,7 +222,7 @@ class MeshGeometry(Strict):
 
 
 Geometry = Annotated[
-    BarGeometry | RectangleGeometry | BoxGeometry | CylinderGeometry | MeshGeometry,
+    BarGeometry | RectangleGeometry | DiscGeometry | BoxGeometry | CylinderGeometry | MeshGeometry,
     Field(discriminator="type"),
 ]
 
@@ -201,7 +231,7 @@ def geometry_dim(g: Any) -> int:
     """Spatial dimension of a geometry section (mesh: declared dim, default 2)."""
     if isinstance(g, BarGeometry):
         return 1
-    if isinstance(g, RectangleGeometry):
+    if isinstance(g, RectangleGeometry | DiscGeometry):
         return 2
     if isinstance(g, MeshGeometry):
         return g.dim or 2
@@ -673,6 +703,32 @@ class Precrack(Strict):
     points: list[list[Finite]] = Field(min_length=2, max_length=3)
 
 
+class NotchSpec(Strict):
+    """A slot of ``width`` along start -> end ([x, y]; along z in 3-D): removes the points
+    inside it and cuts the bonds across its centre line like a pre-crack.
+
+    A notch is a top-level list, not a region kind of ``geometry.holes``: a region can
+    only remove points, and a notch narrower than the spacing removes none, so its
+    defining effect, the bonds cut across it, has to reach the bond builder as the
+    ``precracks`` do. It applies to every deformable point of the model (the main
+    geometry and every body). ``tip``: ``flat`` (square end at ``end``) or ``round`` (a
+    half-disc of radius width/2 beyond ``end``). ``z``: 3-D only, the slot's extent
+    [z_min, z_max] (m); left out, the slot runs through the whole body along z.
+    """
+
+    start: list[Finite]
+    end: list[Finite]
+    width: PosFloat
+    tip: Literal["flat", "round"] = "flat"
+    z: tuple[Finite, Finite] | None = None
+
+    @model_validator(mode="after")
+    def _z_order(self) -> NotchSpec:
+        if self.z is not None and not self.z[0] < self.z[1]:
+            raise ValueError(f"[z] the z-range [z_min, z_max] needs z_min < z_max, got {self.z}")
+        return self
+
+
 # ----------------------------------------------------------------------------- solver
 class Hybrid(Strict):
     """Run a cheap first model until the stretch reaches ``switch_fraction`` x s0, then
@@ -764,117 +820,6 @@ AnySolver = Annotated[
 ]
 
 
-Quantity = Literal[
-    "displacement",
-    "velocity",
-    "force_density",
-    "reaction_force",
-    "rotation",
-    "moment",
-    "max_stretch",
-    "damage",
-    "section_stress",
-]
-
-
-class Probe(Strict):
-    """A recorded quantity on a node set, reduced to one number per record."""
-
-    name: str = Field(min_length=1)
-    quantity: Quantity
-    set: str = "all"
-    component: Literal["x", "y", "z", "magnitude"] = "x"
-    reduce: Literal["mean", "sum", "max", "min"] | None = None
-    position: Finite | None = None  # section_stress: x of the section (1-D, m)
-
-    @model_validator(mode="after")
-    def _section(self) -> Probe:
-        if (self.quantity == "section_stress") != (self.position is not None):
-            raise ValueError(
-                "[position] section_stress needs position (x of the section, "
-                "m); other quantities take none"
-            )
-        return self
-
-
-class CrackTip(Strict):
-    """Track the damaged point farthest from ``origin`` along ``direction``."""
-
-    origin: list[Finite]
-    direction: list[Finite] | None = None
-    damage_threshold: Annotated[float, Field(gt=0, lt=1), _Num] = 0.35
-
-
-class CrackPathSpec(Strict):
-    """A crack followed from a seed point as a polyline (connected damaged points)."""
-
-    name: str = Field(min_length=1, max_length=60, pattern=r"^[A-Za-z0-9_.-]+$")
-    seed: list[Finite]
-    direction: list[Finite] = [1.0, 0.0]
-    within: str | None = None
-    damage_threshold: Annotated[float, Field(gt=0, lt=1), _Num] = 0.35
-    initial_length: PosFloat | None = None
-
-
-class Fracture(Strict):
-    """Fracture detection: the first time any point's damage reaches ``damage_threshold``
-    (Lu & Wang (2016): phi0 = 0.3), checked after every step in which bonds break."""
-
-    damage_threshold: Annotated[float, Field(gt=0, le=1), _Num] = 0.3
-    stop: bool = False
-
-
-class WaveComparison(Strict):
-    """Compare the final 1-D displacement profile with the exact d'Alembert pulse
-    u_in(t - (x - source_position) / sqrt(E / rho)), u_in = amplitude x shape(t)."""
-
-    shape: Literal["sine", "square"]
-    amplitude: PosFloat
-    duration: PosFloat
-    source_position: Finite = 0.0
-    tail_margin: NonNegFloat = 0.0  # m: trailing region ends this far behind the pulse
-
-
-class StressStrain(Strict):
-    """Nominal stress-strain curve of a loading platen (node set ``set``):
-    strain = mean(u) . direction / length, stress = -(sum_i V_i f_i) . direction / area
-    (both positive while the platen loads the body along ``direction``)."""
-
-    set: str
-    direction: list[Finite]
-    area: PosFloat
-    length: PosFloat
-
-
-class Period(Strict):
-    """Dominant period of a probe history (autocorrelation) -> results.period_s. ``of``:
-    the value itself, its magnitude, or ``rate``, |d value / dt| (a train of wave fronts,
-    whatever their sign and however long the load lasts)."""
-
-    probe: str
-    min_period: NonNegFloat = 0.0
-    of: Literal["value", "magnitude", "rate"] = "value"
-
-
-class Output(Strict):
-    """What to write."""
-
-    vtk_every: Annotated[int, Field(ge=0), _Num] = 0
-    history_every: Annotated[int, Field(gt=0), _Num] | None = None
-    fields: list[
-        Literal["displacement", "velocity", "damage", "force_density", "rotation", "moment"]
-    ] = ["displacement", "velocity", "damage", "force_density", "rotation", "moment"]
-    probes: list[Probe] = []
-    crack_tip: CrackTip | None = None
-    crack_paths: list[CrackPathSpec] = []
-    fracture: Fracture | None = None
-    wave_comparison: WaveComparison | None = None
-    period: Period | None = None
-    stress_strain: StressStrain | None = None
-    plot: Literal["auto", "damage", "probes", "none"] = "auto"
-    bonds: bool = True  # write bonds.npz: the bond list (pairs, lengths, final status)
-
-
 class Contact(Strict):
     """Short-range repulsion between points not joined by an intact bond, with Coulomb
     friction (``friction_static`` >= ``friction_kinetic``, both 0 by default)."""
@@ -910,6 +855,7 @@ class Deck(Strict):
     damage: Damage = Damage(model="none")
     node_sets: dict[str, RegionSpec] = {}
     precracks: list[Precrack] = []
+    notches: list[NotchSpec] = []
     contact: Contact | None = None
     bodies: list[BodySpec] = []
     interfaces: list[InterfaceSpec] = []
@@ -999,6 +945,27 @@ def _uses(r: RegionSpec, kinds: set[str]) -> bool:
     if k in ("all_of", "any_of"):
         return any(_uses(x, kinds) for x in v)
     return k == "not_" and _uses(v, kinds)
+
+
+def _notch_errors(deck: Deck) -> list[tuple[str, str]]:
+    """Checks of ``notches``: a 2-D or 3-D model, [x, y] ends, z only in 3-D."""
+    errors: list[tuple[str, str]] = []
+    for n, notch in enumerate(deck.notches):
+        path = f"notches.{n}"
+        if deck.dim == 1:
+            errors.append((path, "notches need a 2-D or 3-D model (a bar has no width)"))
+            continue
+        for key in ("start", "end"):
+            vec = getattr(notch, key)
+            if len(vec) != 2:
+                along = " and runs along z (its z-range is notches.N.z)" if deck.dim == 3 else ""
+                why = f"is [x, y]: the slot is drawn in the x-y plane{along}"
+                errors.append((f"{path}.{key}", f"{why}; got {len(vec)} components"))
+        if len(notch.start) == 2 and notch.start == notch.end:
+            errors.append((f"{path}.end", "equals start: a notch needs a length > 0"))
+        if notch.z is not None and deck.dim != 3:
+            errors.append((f"{path}.z", "is the slot's z-range in a 3-D model; remove it in 2-D"))
+    return errors
 
 
 def cross_check(deck: Deck) -> list[tuple[str, str]]:
@@ -1185,9 +1152,8 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
             )
         )
     ss = deck.output.stress_strain
+    errors += output_errors(deck.output, dim, sets, {b.name for b in deck.rigid_bodies})
     if ss is not None:
-        if ss.set not in sets:
-            errors.append(("output.stress_strain.set", f"unknown node set {ss.set!r}"))
         _check_len(errors, "output.stress_strain.direction", ss.direction, dim)
         _check_nonzero(errors, "output.stress_strain.direction", ss.direction)
     if deck.output.wave_comparison is not None and deck.dim != 1:
@@ -1200,7 +1166,7 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
             if probe.quantity == "section_stress":
                 errors.append((f"output.probes.{n}.quantity", "section_stress is 1-D"))
     for n, probe in enumerate(deck.output.probes):
-        if probe.set not in sets:
+        if probe.set not in sets and probe.quantity not in ("difference", "sum"):
             errors.append(
                 (f"output.probes.{n}.set", f"unknown node set {probe.set!r}; known: {sorted(sets)}")
             )
@@ -1232,6 +1198,7 @@ def cross_check(deck: Deck) -> list[tuple[str, str]]:
         _check_len(errors, "output.crack_tip.origin", deck.output.crack_tip.origin, dim)
         _check_len(errors, "output.crack_tip.direction", deck.output.crack_tip.direction, dim)
         _check_nonzero(errors, "output.crack_tip.direction", deck.output.crack_tip.direction)
+    errors += _notch_errors(deck)
     errors += bodies_errors(deck, _check_len, _check_region)
     return errors + derived_errors(deck)
 
@@ -1246,7 +1213,9 @@ def cross_section(g: Any) -> float:
     """The point-volume factor of a geometry: bar area (1-D), thickness (2-D), 1 (3-D)."""
     if isinstance(g, BarGeometry):
         return g.area
-    if isinstance(g, RectangleGeometry) or isinstance(g, MeshGeometry) and geometry_dim(g) == 2:
+    if isinstance(g, RectangleGeometry | DiscGeometry) or (
+        isinstance(g, MeshGeometry) and geometry_dim(g) == 2
+    ):
         return g.thickness
     return 1.0
 
@@ -1371,6 +1340,8 @@ def estimate_size(deck: Deck, n_points: float | None = None) -> SizeEstimate | N
             n_points = cells(g.size[0]) * cells(g.size[1]) * cells(g.size[2])
         elif isinstance(g, CylinderGeometry):
             n_points = math.pi * cells(g.radius) ** 2 * cells(g.length)
+        elif isinstance(g, DiscGeometry):
+            n_points = math.pi * cells(g.radius) ** 2
         else:
             return None
     reach = d.delta + (0.5 * dx if d.partial_volume == "extended" else 0.0)
@@ -1418,6 +1389,7 @@ def _format_loc(loc: tuple[Any, ...]) -> str:
 _TYPE_TAGS = {
     "bar",
     "rectangle",
+    "disc",
     "box",
     "cylinder",
     "mesh",
@@ -1452,7 +1424,7 @@ def _clean_loc(loc: tuple[Any, ...]) -> tuple[Any, ...]:
 
 
 _ALLOWED_TYPES = {
-    "geometry": "bar, rectangle, box, cylinder, mesh",
+    "geometry": "bar, rectangle, box, cylinder, mesh, disc",
     "boundary_conditions": "displacement, velocity, fixed, initial_velocity, body_force, "
     "traction, pressure",
     "time_function": "constant, ramp, table, triangular_pulse",

@@ -22,8 +22,6 @@ from peridynamics.analysis.crack import branching, crack_tip, tip_speed
 from peridynamics.analysis.waves import dominant_period, pulse_comparison
 from peridynamics.io import deck as dk
 from peridynamics.io.checkpoint import write_checkpoint
-from peridynamics.io.plots import plot_damage, plot_histories
-from peridynamics.io.vtk import write_pvd, write_vtu
 from peridynamics.solvers.base import StepResult
 from peridynamics.state import State
 
@@ -139,10 +137,19 @@ class History(Observer):
         if ctx.history_due(s):
             self.record(ctx, s)
 
+    def _rigid_index(self, name: str) -> int:
+        rigid = getattr(self.model, "rigid", None)
+        names = [] if rigid is None else [b.name for b in rigid.bodies]
+        return names.index(name)
+
     def probe_value(self, probe: dk.Probe, s: State, damage: NDArray) -> float:
         """One number for a probe at the current state."""
         m = self.model
         q = probe.quantity
+        if q in ("difference", "sum"):  # of probes recorded before this one, this record
+            assert probe.of is not None
+            got = [self._last[name] for name in probe.of]
+            return got[0] - got[1] if q == "difference" else float(sum(got))
         if q == "section_stress":
             assert probe.position is not None
             return m.section_stress(s.u, s.intact, probe.position)
@@ -151,6 +158,13 @@ class History(Observer):
             vals = damage[nodes] if q == "damage" else s.max_stretch[nodes]
             return _reduce(vals, probe.reduce or "max", m.comm)
         if q == "reaction_force":
+            if probe.body is not None:  # the contact force on a rigid body (N)
+                vec = s["rigid_force"][self._rigid_index(probe.body), : m.dim]
+                return float(
+                    np.linalg.norm(vec)
+                    if probe.component == "magnitude"
+                    else vec[COMP[probe.component]]
+                )
             f = -s.force[nodes] * m.cloud.volume[nodes, None]
             vec = m.comm.sum_array(f.sum(axis=0))
             return float(
@@ -185,18 +199,25 @@ class History(Observer):
         failed = int(np.count_nonzero(m.bonds.bond_intact)) - int(np.count_nonzero(s.intact))
         total = m.comm.sum(float(m.bonds.n_bonds))
         r.setdefault("damage_factor", []).append(m.comm.sum(float(failed)) / max(total, 1.0))
+        self._last: dict[str, float] = {}
         for p in self.deck.output.probes:
-            r["probes"][p.name].append(self.probe_value(p, s, damage))
+            value = self.probe_value(p, s, damage)
+            self._last[p.name] = value
+            r["probes"][p.name].append(value)
         ss = self.deck.output.stress_strain
         if ss is not None:
-            nodes = m.cloud.node_set(ss.set)
             d = np.asarray(ss.direction, dtype=float)
             d /= np.linalg.norm(d)
-            push = (s.force[nodes] * m.cloud.volume[nodes, None]).sum(axis=0)
+            if ss.body is not None:  # a rigid platen: its reaction and its displacement
+                k = self._rigid_index(ss.body)
+                push = s["rigid_force"][k, : m.dim]
+                travel = s["rigid_position"][k, : m.dim]
+            else:
+                nodes = m.cloud.node_set(str(ss.set))
+                push = (s.force[nodes] * m.cloud.volume[nodes, None]).sum(axis=0)
+                travel = s.u[nodes].mean(axis=0)
             r.setdefault("stress_Pa", []).append(float(-np.sum(push * d) / ss.area))
-            r.setdefault("strain", []).append(
-                float(np.sum(s.u[nodes].mean(axis=0) * d) / ss.length)
-            )
+            r.setdefault("strain", []).append(float(np.sum(travel * d) / ss.length))
         if self._tip is not None:
             origin, direction, thr = self._tip
             pre_damaged = ctx.initial_damage() >= thr  # points a pre-crack damages at t = 0
@@ -238,13 +259,30 @@ class History(Observer):
         with np.errstate(divide="ignore", invalid="ignore"):
             ratio = ke[loaded] / se[loaded]
         results["max_kinetic_to_strain_energy"] = float(ratio.max()) if ratio.size else 0.0
-        if self.deck.output.stress_strain is not None and r.get("stress_Pa"):
+        ss = self.deck.output.stress_strain
+        if ss is not None and r.get("stress_Pa"):
             stress = np.asarray(r["stress_Pa"])
+            strain = np.asarray(r["strain"])
             k = int(np.argmax(stress))
+            offset = 0.0
+            if ss.zero_at == "first_contact" and stress[k] > 0:
+                # the last record before the stress first exceeds contact_fraction of
+                # its peak: the strain there is the travel before contact
+                first = int(np.flatnonzero(stress > ss.contact_fraction * stress[k])[0])
+                offset = float(strain[max(first - 1, 0)])
             results["peak_stress_Pa"] = float(stress[k])
-            results["strain_at_peak"] = float(r["strain"][k])
-            results["stress_strain"] = {"strain": r["strain"], "stress_Pa": r["stress_Pa"]}
-        return []
+            results["strain_at_peak"] = float(strain[k] - offset)
+            results["stress_strain"] = {
+                "strain": (strain - offset).tolist(),
+                "stress_Pa": r["stress_Pa"],
+                "strain_offset": offset,
+            }
+        files = []
+        if self.deck.output.history_csv:
+            from peridynamics.io.history_csv import write_history_csv
+
+            files.append(write_history_csv(ctx.out / "history.csv", self.deck, r))
+        return files
 
 
 # ------------------------------------------------------------------------ fracture
@@ -311,6 +349,11 @@ class CrackBranching(Observer):
             results["branching_distance_m"] = dist
             results["branching_point_m"] = point
             results["branching_x_m"] = None if point is None else point[0]
+        from peridynamics.io.observers_cracks import crack_tip_region, warn_threshold
+
+        key = "output.crack_tip.damage_threshold"
+        region = crack_tip_region(self.model, ct)
+        warn_threshold(ctx, s, results, key, ct.damage_threshold, region)
         return []
 
 
@@ -328,56 +371,6 @@ class HybridSwitch(Observer):
 
 
 # ---------------------------------------------------------------------- files
-class VTKFrames(Observer):
-    """A VTU frame every ``output.vtk_every`` steps, at the start and at the end, and the
-    PVD series that ParaView opens."""
-
-    def __init__(self, deck: dk.Deck, model: Model) -> None:
-        self.deck, self.model = deck, model
-
-    def on_start(self, ctx: RunContext, s: State, resumed: bool) -> None:
-        if not resumed:
-            self.frame(ctx, s)
-
-    def on_step(self, ctx: RunContext, s: State, result: StepResult) -> None:
-        every = self.deck.output.vtk_every
-        if every and s.step % every == 0:
-            self.frame(ctx, s)
-
-    def frame(self, ctx: RunContext, s: State, name: str | None = None) -> None:
-        """Write one frame (``name``: a one-off file outside the series)."""
-        fields = self.deck.output.fields
-        data: dict[str, NDArray] = {}
-        if "displacement" in fields:
-            data["displacement"] = s.u
-        if "velocity" in fields:
-            data["velocity"] = s.v
-        if "damage" in fields:
-            data["damage"] = ctx.damage(s)
-        if "force_density" in fields:
-            data["force_density"] = s.force
-        if "theta" in s:  # micropolar: point rotation (rad) and moment density (N m/m^3)
-            if "rotation" in fields:
-                data["rotation"] = s["theta"][:, 0]
-            if "moment" in fields:
-                data["moment_density"] = s["moment"][:, 0]
-        fname = name or f"frame_{s.step:07d}.vtu"
-        write_vtu(ctx.out / fname, self.model.cloud.x, data)
-        if name is None:
-            frames = [f for f in ctx.records["vtk_frames"] if f[1] != fname]
-            frames.append((s.t, fname))
-            ctx.records["vtk_frames"] = frames
-            write_pvd(ctx.out / f"{self.deck.name}.pvd", [tuple(f) for f in frames])
-
-    def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
-        every = self.deck.output.vtk_every
-        if ctx.status == "unstable":
-            return []
-        if not every or s.step % every:
-            self.frame(ctx, s)
-        return []
-
-
 class Checkpoints(Observer):
     """An atomic checkpoint every ``every`` steps (State fields, records, fingerprint)."""
 
@@ -489,55 +482,6 @@ class BlastRecord(Observer):
                 for b in self.blasts
             ]
         return []
-
-
-class Figure(Observer):
-    """The PNG of the run: damage map (2-D/3-D) or probe histories (1-D)."""
-
-    def __init__(self, deck: dk.Deck, model: Model) -> None:
-        self.deck, self.model = deck, model
-
-    def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
-        kind = self.deck.output.plot
-        cloud, name, r = self.model.cloud, self.deck.name, ctx.records
-        if kind == "none":
-            return []
-        if kind == "auto":
-            kind = "probes" if cloud.dim == 1 else "damage"
-        path = ctx.out / f"{name}_{kind}.png"
-        damage = ctx.damage(s)
-        if getattr(self.deck.solver, "type", "explicit") in ("adr", "static"):
-            title = f"{name}: damage after load step {s.step}"  # pseudo-time is no time
-        else:
-            title = f"{name}: damage at t = {s.t * 1e6:.2f} us"
-        if kind == "damage" and cloud.dim == 1:
-            plot_histories(
-                path, cloud.x[:, 0].tolist(), {"damage": damage.tolist()}, title,
-                xlabel="x (m)", xscale=1.0,
-            )  # fmt: skip
-        elif kind == "damage":
-            rigid = getattr(self.model, "rigid", None)
-            outlines = rigid.outlines(s, cloud.x) if rigid is not None and cloud.dim == 2 else None
-            plot_damage(path, cloud.x, damage, cloud.spacing, title, outlines)
-        else:
-            units = {
-                "displacement": "m",
-                "velocity": "m/s",
-                "force_density": "N/m^3",
-                "rotation": "rad",
-                "moment": "N m/m^3",
-                "reaction_force": "N",
-                "section_stress": "Pa",
-                "max_stretch": "-",
-                "damage": "-",
-            }
-            series = {
-                f"{p.name} ({units[p.quantity]})": r["probes"][p.name]
-                for p in self.deck.output.probes
-            }
-            series = series or {"kinetic energy (J)": r["kinetic_energy_J"]}
-            plot_histories(path, r["time_s"], series, f"{name}: probes")
-        return [path.name]
 
 
 def effective_modulus_ratio(model: Model) -> float:
@@ -660,6 +604,15 @@ class CrackPaths(Observer):
         results["crack_paths"] = out
         results["rayleigh_speed_m_per_s"] = c_r
         results["effective_modulus_ratio"] = ratio
+        from peridynamics.io.observers_cracks import warn_threshold
+
+        for k, c in enumerate(self.specs):  # over tracked cracks (a handful)
+            region = None
+            if c.within is not None:
+                region = np.zeros(m.n_points, dtype=bool)
+                region[m.cloud.node_set(c.within)] = True
+            key = f"output.crack_paths[{k}].damage_threshold"
+            warn_threshold(ctx, s, results, key, c.damage_threshold, region)
         return []
 
 
@@ -701,12 +654,10 @@ def observers_for(deck: dk.Deck, model: Model, hybrid: bool, checkpoint_every: i
         from peridynamics.io.observers_bodies import RigidBodyHistory
 
         obs.append(RigidBodyHistory(model))
+    from peridynamics.io.figures import Figure
+    from peridynamics.io.observers_frames import VTKFrames
+
     obs.append(VTKFrames(deck, model))
-    if checkpoint_every:
-        obs.append(Checkpoints(checkpoint_every))
-    crash = int(os.environ.get("PERIDYNAMICS_CRASH_AT_STEP", "-1"))
-    if crash >= 0:
-        obs.append(CrashAtStep(crash))
     blasts: list[dk.BlastTF] = []
     for spec in deck.boundary_conditions:
         fn = getattr(spec, "time_function", None)
@@ -718,8 +669,17 @@ def observers_for(deck: dk.Deck, model: Model, hybrid: bool, checkpoint_every: i
         obs.append(CrackBranching(o.crack_tip, model))
     if o.crack_paths:
         obs.append(CrackPaths(deck, model))
+    from peridynamics.io.observers_cracks import crack_length_observers
+
+    obs += crack_length_observers(deck, model)  # after CrackPaths: adds to its results
     obs.append(Figure(deck, model))
     obs.append(WaveOutputs(deck, model))
     if o.bonds:
         obs.append(BondList(model))
+    # last: a checkpoint holds the records of every observer for this step
+    if checkpoint_every:
+        obs.append(Checkpoints(checkpoint_every))
+    crash = int(os.environ.get("PERIDYNAMICS_CRASH_AT_STEP", "-1"))
+    if crash >= 0:
+        obs.append(CrashAtStep(crash))
     return obs

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import Literal
 from xml.sax.saxutils import quoteattr
 
 import meshio
@@ -11,27 +12,39 @@ import numpy as np
 from numpy.typing import NDArray
 
 
-def _pad3(a: NDArray) -> NDArray:
-    a = np.asarray(a, dtype=np.float64)
+def _pad3(a: NDArray, dtype: type = np.float64) -> NDArray:
+    a = np.asarray(a, dtype=dtype)
     if a.ndim == 1:
         return a
-    out = np.zeros((a.shape[0], 3))
+    out: NDArray = np.zeros((a.shape[0], 3), dtype=dtype)
     out[:, : a.shape[1]] = a
     return out
 
 
-def write_vtu(path: str | Path, x: NDArray, fields: dict[str, NDArray]) -> None:
-    """Write points ``x`` (n, dim) with point fields (vectors padded to 3 components)."""
-    pts = _pad3(x)
-    cells = [("vertex", np.arange(len(pts), dtype=np.int64)[:, None])]
-    data = {k: _pad3(v) for k, v in fields.items()}
+def write_vtu(
+    path: str | Path,
+    x: NDArray,
+    fields: dict[str, NDArray],
+    precision: Literal["float32", "float64"] = "float64",
+    compression: Literal["zlib", "lzma"] | None = None,
+) -> None:
+    """Write points ``x`` (n, dim) with point fields (vectors padded to 3 components)
+    as a binary VTU, the points and fields in ``precision``, the data blocks
+    compressed with ``compression`` (ParaView reads zlib and lzma). The file appears
+    atomically (written to a temporary name, then renamed)."""
+    dtype = np.float32 if precision == "float32" else np.float64
+    pts = _pad3(x, dtype)
+    cells = [
+        ("vertex", np.arange(len(pts), dtype=np.int32 if len(pts) < 2**31 else np.int64)[:, None])
+    ]
+    data = {k: _pad3(v, dtype) for k, v in fields.items()}
     tmp = Path(str(path) + ".tmp.vtu")
     meshio.write(
         tmp,
         meshio.Mesh(pts, cells, point_data=data),
         file_format="vtu",
         binary=True,
-        compression=None,
+        compression=compression,
     )
     os.replace(tmp, path)
 

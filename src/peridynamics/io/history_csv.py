@@ -1,0 +1,88 @@
+"""``history.csv``: the histories of a run as one table, one row per history record.
+
+Columns, each headed ``name [unit]``: time, kinetic and strain energy, largest damage,
+specimen damage factor, every probe (in deck order), the stress-strain pair, the
+crack-tip position, the broken-bond crack length, and per rigid body its reaction
+force and displacement components. Only columns recorded at every history record
+appear (so the rows line up with ``time [s]``).
+"""
+
+from __future__ import annotations
+
+import csv
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from peridynamics.io import deck as dk
+
+BASE = (
+    ("time_s", "time [s]"),
+    ("kinetic_energy_J", "kinetic_energy [J]"),
+    ("strain_energy_J", "strain_energy [J]"),
+    ("max_damage", "max_damage [-]"),
+    ("damage_factor", "damage_factor [-]"),
+)
+SUFFIX_UNITS = {"_m": "m", "_m2": "m^2", "_s": "s", "_J": "J", "_N": "N", "_Pa": "Pa"}
+
+
+def _unit_of(key: str) -> tuple[str, str]:
+    """``crack_length_m`` -> (``crack_length``, ``m``)."""
+    for suffix, unit in sorted(SUFFIX_UNITS.items(), key=lambda kv: -len(kv[0])):
+        if key.endswith(suffix):
+            return key[: -len(suffix)], unit
+    return key, "-"
+
+
+def history_columns(deck: dk.Deck, records: dict[str, Any]) -> dict[str, list[float]]:
+    """The columns of ``history.csv`` by header, each as long as ``time_s``."""
+    from peridynamics.io.figures import probe_units
+
+    n = len(records["time_s"])
+    cols: dict[str, list[float]] = {}
+
+    def add(header: str, values: Any) -> None:
+        if values is not None and len(values) == n:
+            cols[header] = [float(v) for v in values]
+
+    for key, header in BASE:
+        add(header, records.get(key))
+    units = probe_units(deck)
+    for name, values in records["probes"].items():
+        add(f"{name} [{units.get(name, '-')}]", values)
+    add("stress [Pa]", records.get("stress_Pa"))
+    add("strain [-]", records.get("strain"))
+    tip = records.get("crack_tip_m")
+    if tip and np.ndim(tip[0]) == 0:
+        add("crack_tip [m]", tip)
+    for key in ("crack_length_m", "crack_area_m2"):
+        add(f"{_unit_of(key)[0]} [{_unit_of(key)[1]}]", records.get(key))
+    rigid = records.get("rigid_bodies")
+    if isinstance(rigid, dict):
+        for body, rec in rigid.items():
+            if not isinstance(rec, dict):
+                continue
+            for key, label, unit in (
+                ("force_N", "force", "N"),
+                ("displacement_m", "displacement", "m"),
+            ):
+                arr = np.asarray(rec.get(key, []), dtype=float)
+                if arr.ndim == 2 and len(arr) == n:
+                    for c in range(arr.shape[1]):
+                        add(f"{body}.{label}_{'xyz'[c]} [{unit}]", arr[:, c])
+    return cols
+
+
+def write_history_csv(path: Path, deck: dk.Deck, records: dict[str, Any]) -> str:
+    """Write the table atomically; returns the file name."""
+    cols = history_columns(deck, records)
+    tmp = Path(str(path) + ".tmp")
+    with open(tmp, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(list(cols))
+        rows = zip(*cols.values(), strict=True)
+        w.writerows([[repr(v) for v in row] for row in rows])
+    os.replace(tmp, path)
+    return path.name

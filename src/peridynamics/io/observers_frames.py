@@ -1,0 +1,202 @@
+"""Frames of a run: VTU files every N steps, at chosen times and at events, with the
+PVD series ParaView opens, and optional PNGs of the damage on the deformed shape.
+
+Events (``output.frames_on``):
+
+* ``first_damage``: the first step in which a bond breaks during the run (pre-cracks
+  do not count);
+* ``fracture``: the first step at which the damage of a point reaches
+  ``output.fracture.damage_threshold`` (0.3 when the deck has no ``fracture`` section),
+  not counting points that pre-cracks and notches damage that much before the run;
+* ``peak_load``: the state at the largest load (:func:`load_value`) over the history
+  records; kept in memory while the load rises and written at the end of the run
+  (and whenever a checkpoint is written, so a resumed run keeps it).
+
+Event frames are ``event_<name>.vtu`` (not in the PVD series); ``results.events``
+holds the time, step (and load) of each event that happened.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from peridynamics.io import deck as dk
+from peridynamics.io.deck_output import load_source
+from peridynamics.io.observers import Observer, RunContext
+from peridynamics.io.vtk import write_pvd, write_vtu
+from peridynamics.solvers.base import StepResult
+from peridynamics.state import State
+
+if TYPE_CHECKING:
+    from peridynamics.model import Model
+
+
+def frame_fields(deck: dk.Deck, s: State, damage: NDArray) -> dict[str, NDArray]:
+    """The point fields of a frame, as chosen by ``output.fields``."""
+    fields = deck.output.fields
+    data: dict[str, NDArray] = {}
+    if "displacement" in fields:
+        data["displacement"] = s.u
+    if "velocity" in fields:
+        data["velocity"] = s.v
+    if "damage" in fields:
+        data["damage"] = damage
+    if "force_density" in fields:
+        data["force_density"] = s.force
+    if "theta" in s:  # micropolar: point rotation (rad) and moment density (N m/m^3)
+        if "rotation" in fields:
+            data["rotation"] = s["theta"][:, 0]
+        if "moment" in fields:
+            data["moment_density"] = s["moment"][:, 0]
+    return data
+
+
+def load_value(deck: dk.Deck, records: dict[str, Any]) -> float | None:
+    """The load at the last history record: the probe ``output.load_probe``, else the
+    stress of ``output.stress_strain``, else the first ``reaction_force`` probe."""
+    src = load_source(deck.output)
+    if src is None:
+        return None
+    if src == "stress_strain":
+        values = records.get("stress_Pa") or []
+    else:
+        values = records["probes"].get(src.split(":", 1)[1]) or []
+    return float(values[-1]) if values else None
+
+
+class VTKFrames(Observer):
+    """VTU frames (``output.vtk_every`` steps, ``output.frames_at`` times,
+    ``output.frames_on`` events, the first and the last state) and the PVD series."""
+
+    def __init__(self, deck: dk.Deck, model: Model) -> None:
+        self.deck, self.model = deck, model
+        o = deck.output
+        self.times = sorted(o.frames_at)
+        self.events = set(o.frames_on)
+        thr = o.fracture.damage_threshold if o.fracture is not None else 0.3
+        self.fracture_threshold = thr
+        self._peak: tuple[float, int, float, dict[str, NDArray]] | None = None
+        self._peak_written = True
+
+    # ------------------------------------------------------------------ writing
+    def frame(self, ctx: RunContext, s: State, name: str | None = None) -> str:
+        """Write one frame (``name``: a one-off file outside the series); returns its
+        file name."""
+        data = frame_fields(self.deck, s, ctx.damage(s))
+        fname = name or f"frame_{s.step:07d}.vtu"
+        self._write(ctx.out / fname, data)
+        if name is None:
+            frames = [f for f in ctx.records["vtk_frames"] if f[1] != fname]
+            frames.append((s.t, fname))
+            ctx.records["vtk_frames"] = frames
+            write_pvd(ctx.out / f"{self.deck.name}.pvd", [tuple(f) for f in frames])
+            if self.deck.output.png_frames and self.model.dim > 1:
+                self._png(ctx, s, fname)
+        return fname
+
+    def _write(self, path: Path, data: dict[str, NDArray]) -> None:
+        o = self.deck.output
+        write_vtu(
+            path,
+            self.model.cloud.x,
+            data,
+            precision=o.frame_precision,
+            compression=None if o.frame_compression == "none" else o.frame_compression,
+        )
+
+    def _png(self, ctx: RunContext, s: State, fname: str) -> None:
+        from peridynamics.io.figures import deformed_figure
+
+        folder = ctx.out / "png"
+        folder.mkdir(exist_ok=True)
+        title = f"{self.deck.name}: step {s.step}, t = {s.t * 1e6:.3g} us"
+        deformed_figure(folder / fname.replace(".vtu", ".png"), self.deck, self.model, s,
+                        ctx.damage(s), title)  # fmt: skip
+
+    def _event(self, ctx: RunContext, s: State, name: str, **extra: float) -> None:
+        ev = ctx.records.setdefault("events", {})
+        ev[name] = {"time_s": s.t, "step": s.step, **extra}
+        if name in self.events:
+            ev[name]["file"] = self.frame(ctx, s, name=f"event_{name}.vtu")
+
+    # ------------------------------------------------------------------ hooks
+    def on_start(self, ctx: RunContext, s: State, resumed: bool) -> None:
+        ctx.records.setdefault("events", {})
+        ctx.records.setdefault("frames_at_done", 0)
+        if not resumed:
+            self.frame(ctx, s)
+            self._due_times(ctx, s)
+        else:  # the peak of the run before the interruption, if it was written
+            pk = ctx.records["events"].get("peak_load")
+            if pk is not None:
+                self._peak = (pk["load"], pk["step"], pk["time_s"], {})
+
+    def _due_times(self, ctx: RunContext, s: State) -> bool:
+        """Advance past every ``frames_at`` time reached by ``s.t``; True if any."""
+        k = ctx.records["frames_at_done"]
+        hit = False
+        while k < len(self.times) and s.t >= self.times[k] * (1 - 1e-12):
+            k, hit = k + 1, True
+        ctx.records["frames_at_done"] = k
+        return hit
+
+    def on_step(self, ctx: RunContext, s: State, result: StepResult) -> None:
+        every = self.deck.output.vtk_every
+        due = bool(every and s.step % every == 0)
+        if self._due_times(ctx, s):
+            due = True
+        if due:
+            self.frame(ctx, s)
+        ev = ctx.records["events"]
+        if result.broken and "first_damage" not in ev:
+            self._event(ctx, s, "first_damage")
+        if result.broken and "fracture" not in ev:
+            thr = self.fracture_threshold  # points a pre-crack already damaged don't count
+            if np.any((ctx.damage(s) >= thr) & (ctx.initial_damage() < thr)):
+                self._event(ctx, s, "fracture")
+        if ctx.history_due(s) and load_source(self.deck.output) is not None:
+            self._track_peak(ctx, s)
+        cp = int(ctx.records.get("checkpoint_every", 0) or 0)
+        if cp and s.step % cp == 0:
+            self._write_peak(ctx)
+
+    def _track_peak(self, ctx: RunContext, s: State) -> None:
+        load = load_value(self.deck, ctx.records)
+        if load is None or (self._peak is not None and abs(load) <= abs(self._peak[0])):
+            return
+        snap = {}
+        if "peak_load" in self.events:
+            data = frame_fields(self.deck, s, ctx.damage(s))
+            snap = {k: np.array(v, dtype=np.float32 if self._f32 else np.float64)
+                    for k, v in data.items()}  # fmt: skip
+        self._peak = (load, s.step, s.t, snap)
+        self._peak_written = False
+        ctx.records["events"]["peak_load"] = {"time_s": s.t, "step": s.step, "load": load}
+
+    @property
+    def _f32(self) -> bool:
+        return self.deck.output.frame_precision == "float32"
+
+    def _write_peak(self, ctx: RunContext) -> None:
+        if self._peak is None or self._peak_written or "peak_load" not in self.events:
+            return
+        self._write(ctx.out / "event_peak_load.vtu", self._peak[3])
+        ctx.records["events"]["peak_load"]["file"] = "event_peak_load.vtu"
+        self._peak_written = True
+
+    def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
+        self._write_peak(ctx)
+        results["events"] = ctx.records.get("events", {})
+        every = self.deck.output.vtk_every
+        if ctx.status == "unstable":
+            return []
+        if not every or s.step % every:
+            if not ctx.records["vtk_frames"] or ctx.records["vtk_frames"][-1][1] != (
+                f"frame_{s.step:07d}.vtu"
+            ):
+                self.frame(ctx, s)
+        return []
