@@ -23,11 +23,15 @@ from typing import Any
 STATUSES = ("completed", "skipped-done", "failed", "unstable", "interrupted", "not-started")
 #: results drawn by default when present (then wall_s); a crack length is added when found
 DEFAULT_PLOT = (
-    "max_damage",
     "peak_stress_Pa",
+    "events.peak_load.load",
+    "crack_length_m",
+    "crack_area_m2",
+    "events.fracture.time_s",
     "fracture_time_s",
     "<crack length>",
     "max_crack_tip_speed_m_per_s",
+    "max_damage",
     "max_displacement_m",
 )
 MAX_PANELS = 6

@@ -85,11 +85,13 @@ def test_history_csv_has_one_column_per_history_with_units(plate_run) -> None:
         rows = list(csv.reader(fh))
     header, body = rows[0], np.array(rows[1:], dtype=float)
     for col in ("time [s]", "kinetic_energy [J]", "strain_energy [J]", "max_damage [-]",
-                "uy_top [m]", "cmod [m]", "load [N]"):  # fmt: skip
+                "uy_top [m]", "cmod [m]", "load [N]", "crack_length [m]"):  # fmt: skip
         assert col in header
     r = summary["results"]
     assert np.array_equal(body[:, header.index("time [s]")], r["history"]["time_s"])
     assert np.array_equal(body[:, header.index("cmod [m]")], r["probes"]["cmod"]["values"])
+    crack = body[:, header.index("crack_length [m]")]
+    assert np.array_equal(crack, r["crack_length_history_m"]) and crack[-1] > 0
     assert "history.csv" in summary["files"]
 
 

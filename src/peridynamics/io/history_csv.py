@@ -25,15 +25,6 @@ BASE = (
     ("max_damage", "max_damage [-]"),
     ("damage_factor", "damage_factor [-]"),
 )
-SUFFIX_UNITS = {"_m": "m", "_m2": "m^2", "_s": "s", "_J": "J", "_N": "N", "_Pa": "Pa"}
-
-
-def _unit_of(key: str) -> tuple[str, str]:
-    """``crack_length_m`` -> (``crack_length``, ``m``)."""
-    for suffix, unit in sorted(SUFFIX_UNITS.items(), key=lambda kv: -len(kv[0])):
-        if key.endswith(suffix):
-            return key[: -len(suffix)], unit
-    return key, "-"
 
 
 def history_columns(deck: dk.Deck, records: dict[str, Any]) -> dict[str, list[float]]:
@@ -57,8 +48,8 @@ def history_columns(deck: dk.Deck, records: dict[str, Any]) -> dict[str, list[fl
     tip = records.get("crack_tip_m")
     if tip and np.ndim(tip[0]) == 0:
         add("crack_tip [m]", tip)
-    for key in ("crack_length_m", "crack_area_m2"):
-        add(f"{_unit_of(key)[0]} [{_unit_of(key)[1]}]", records.get(key))
+    add("crack_length [m]", records.get("crack_length_history_m"))  # broken bonds, 2-D
+    add("crack_area [m^2]", records.get("crack_area_history_m2"))  # 3-D
     rigid = records.get("rigid_bodies")
     if isinstance(rigid, dict):
         for body, rec in rigid.items():
