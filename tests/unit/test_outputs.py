@@ -225,12 +225,28 @@ def test_stress_strain_from_first_contact_removes_the_travel_before_contact(tmp_
         ({"plot": ["stress_strain"]}, "output.plot"),
         ({"load_probe": "nope"}, "output.load_probe"),
         ({"frames_on": ["sometime"]}, "output.frames_on"),
+        ({"plot": "contour"}, "output.plot"),
     ],
 )  # fmt: skip
 def test_bad_output_keys_are_named(change: dict[str, Any], key: str) -> None:
     with pytest.raises(DeckError) as err:
         parse_deck(deck_with(**change))
     assert key in str(err.value), str(err.value)
+
+
+def test_one_d_refuses_two_d_figures() -> None:
+    bar = {
+        "name": "bar",
+        "geometry": {"type": "bar", "length": 0.1},
+        "discretisation": {"spacing": 0.01, "horizon_factor": 3.0},
+        "material": {"youngs_modulus": 1e9, "density": 1000.0},
+        "solver": {"steps": 2},
+    }
+    for output, key in (({"png_frames": True}, "output.png_frames"),
+                        ({"plot": ["deformed"]}, "output.plot")):  # fmt: skip
+        with pytest.raises(DeckError) as err:
+            parse_deck({**bar, "output": output})
+        assert key in str(err.value)
 
 
 def test_summary_lists_events_and_frames(plate_run) -> None:

@@ -244,6 +244,8 @@ def output_errors(out: Output, dim: int, sets: set[str], rigid: set[str]) -> lis
     kinds = [out.plot] if isinstance(out.plot, str) else list(out.plot)
     if "stress_strain" in kinds and ss is None:
         errors.append(("output.plot", "stress_strain needs an output.stress_strain section"))
+    if dim == 1 and out.png_frames:
+        errors.append(("output.png_frames", "PNG frames are 2-D/3-D figures; remove it in 1-D"))
     if dim == 1 and "deformed" in kinds:
         errors.append(("output.plot", "deformed is a 2-D/3-D figure; use probes or damage"))
     return errors

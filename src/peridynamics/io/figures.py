@@ -114,7 +114,9 @@ def slices_figure(
     for ax, (axis, p, mask) in zip(axes[0], masks, strict=True):
         a, b = [k for k in range(3) if AXES[k] != axis]
         n = int(mask.sum())
-        size = max(0.5, 2e4 / max(n, 1))
+        # squares one spacing wide: a panel is about 4.4 in (317 pt) across its extent
+        extent = max(float(np.ptp(pos[mask, a])), float(np.ptp(pos[mask, b])), spacing) if n else 1
+        size = max(0.25, (0.9 * 317.0 * spacing / extent) ** 2)
         sc = ax.scatter(pos[mask, a], pos[mask, b], c=damage[mask], s=size, cmap="jet",
                         vmin=0, vmax=1, marker="s", linewidths=0)  # fmt: skip
         ax.set_aspect("equal")

@@ -94,7 +94,7 @@ class VTKFrames(Observer):
             frames.append((s.t, fname))
             ctx.records["vtk_frames"] = frames
             write_pvd(ctx.out / f"{self.deck.name}.pvd", [tuple(f) for f in frames])
-            if self.deck.output.png_frames and self.model.dim > 1:
+            if self.deck.output.png_frames:
                 self._png(ctx, s, fname)
         return fname
 
@@ -113,7 +113,10 @@ class VTKFrames(Observer):
 
         folder = ctx.out / "png"
         folder.mkdir(exist_ok=True)
-        title = f"{self.deck.name}: step {s.step}, t = {s.t * 1e6:.3g} us"
+        if getattr(self.deck.solver, "type", "explicit") in ("adr", "static"):
+            title = f"{self.deck.name}: load step {s.step}"  # pseudo-time is no time
+        else:
+            title = f"{self.deck.name}: step {s.step}, t = {s.t * 1e6:.3g} us"
         deformed_figure(folder / fname.replace(".vtu", ".png"), self.deck, self.model, s,
                         ctx.damage(s), title)  # fmt: skip
 
