@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -9,7 +11,7 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from peridynamics.bonds import brute_force_pairs, build_bonds, find_pairs
-from peridynamics.bonds.search import directed_csr
+from peridynamics.bonds.search import bond_chunks, directed_bonds, directed_csr
 from peridynamics.geometry import PointCloud, bar, box, rectangle
 
 
@@ -203,3 +205,215 @@ def test_build_bonds_rejects_isolated_point():
     c = PointCloud(x=x, volume=np.full(3, 1e-6), spacing=1e-3, plane="stress")
     with pytest.raises(ValueError, match="no bond"):
         build_bonds(c, 1.5e-3)
+
+
+# ------------------------------------------------- memory-bounded construction == oracle
+# directed_bonds (cell grid, count then fill) must give the arrays of
+# directed_csr(find_pairs(...)) bit for bit, ties at the radius included; build_bonds
+# fills its per-bond arrays range by range and must not depend on the range size.
+
+
+def oracle_csr(x: np.ndarray, radius: float):
+    """Today's reference: cKDTree.query_pairs, then the global sort of directed_csr."""
+    return directed_csr(find_pairs(x, radius), len(x))
+
+
+def assert_same_csr(got, want) -> None:
+    for g, w in zip(got, want, strict=True):
+        assert g.dtype == w.dtype and g.shape == w.shape
+        assert np.array_equal(g, w)
+
+
+def _grid(dim: int, n: int) -> np.ndarray:
+    axes = [np.arange(float(n))] * dim
+    return np.stack(np.meshgrid(*axes, indexing="ij"), -1).reshape(-1, dim)
+
+
+def _at_radius(x: np.ndarray, offsets, bond_i, bond_j, radius: float) -> int:
+    """Bonds whose squared distance (summed left to right) is exactly radius**2."""
+    d = x[bond_j] - x[bond_i]
+    s = np.zeros(len(bond_i))
+    for k in range(x.shape[1]):
+        s = s + d[:, k] * d[:, k]
+    return int(np.sum(s == radius * radius))
+
+
+@pytest.mark.parametrize("dim", [1, 2, 3])
+@pytest.mark.parametrize("scale", [1.0, 0.1, 1e-3])
+@pytest.mark.parametrize("m", [1.0, 2.0, 3.0, 3.015, 2.5])
+def test_directed_bonds_matches_oracle_on_grids_with_ties(dim, scale, m):
+    """m = 1, 2, 3: lattice distances equal to the radius (exact ties); scale 0.1 and
+    1e-3 make them ties of rounded values; 2.5 and 3.015 have no ties."""
+    x = _grid(dim, {1: 40, 2: 14, 3: 8}[dim]) * scale
+    radius = m * scale
+    want = oracle_csr(x, radius)
+    assert_same_csr(directed_bonds(x, radius), want)
+    if scale == 1.0 and m in (1.0, 2.0, 3.0):
+        assert _at_radius(x, *want, radius) > 0  # the case really has ties
+
+
+@pytest.mark.parametrize("dim", [1, 2, 3])
+def test_directed_bonds_matches_oracle_on_jittered_shuffled_and_duplicate_points(dim):
+    rng = np.random.default_rng(dim)
+    g = _grid(dim, {1: 60, 2: 16, 3: 9}[dim])
+    for amp in (0.1, 0.3, 0.49):
+        x = (g + rng.uniform(-amp, amp, g.shape)) * 1e-3
+        for m in (1.0, 2.0, 3.015):
+            assert_same_csr(directed_bonds(x, m * 1e-3), oracle_csr(x, m * 1e-3))
+    # index order unrelated to the cells: rows are not presorted (insertion sort and,
+    # for rows longer than 64, quicksort)
+    perm = rng.permutation(len(g))
+    for m in (1.0, 3.0, 4.5):
+        assert_same_csr(directed_bonds(g[perm] * 0.1, m * 0.1), oracle_csr(g[perm] * 0.1, m * 0.1))
+    # coincident points (distance 0) are neighbours, a point is never its own
+    x = np.concatenate([g, g[:5]]) * 0.1
+    got = directed_bonds(x, 0.1)
+    assert_same_csr(got, oracle_csr(x, 0.1))
+    assert not np.any(got[1] == got[2])
+
+
+@pytest.mark.parametrize("dim", [1, 2, 3])
+def test_directed_bonds_matches_oracle_at_ulp_level_ties(dim):
+    """Radius equal to a computed pair distance and its neighbouring floats: which pairs
+    are in depends on the last bit of the squared distance."""
+    rng = np.random.default_rng(10 + dim)
+    x = rng.random((600 // dim, dim))
+    for _ in range(10):
+        a, c = rng.integers(0, len(x), 2)
+        d = x[a] - x[c]
+        s = 0.0
+        for t in d:
+            s += t * t
+        base = float(np.sqrt(s))
+        for r in (base, float(np.nextafter(base, 0.0)), float(np.nextafter(base, 2.0))):
+            assert_same_csr(directed_bonds(x, r), oracle_csr(x, r))
+
+
+@pytest.mark.parametrize("dim", [1, 2, 3])
+def test_directed_bonds_sparse_and_degenerate_clouds(dim):
+    rng = np.random.default_rng(20 + dim)
+    x = rng.random((200, dim)) * 1e6  # huge extent: the grid widens its cells
+    x[:6] = x[6] + rng.random((6, dim)) * 1e-3
+    for r in (2e-3, 3e5):
+        assert_same_csr(directed_bonds(x, r), oracle_csr(x, r))
+    g = _grid(dim, 4)
+    for pts, r in ((g[:1], 1.0), (g[:2], 1.0), (np.concatenate([g, g[:2]]), 0.0)):
+        assert_same_csr(directed_bonds(pts, r), oracle_csr(pts, r))
+    line = np.outer(np.arange(30.0), np.ones(dim)) * 0.1  # collinear: thin grid
+    assert_same_csr(directed_bonds(line, 0.3 * np.sqrt(dim)), oracle_csr(line, 0.3 * np.sqrt(dim)))
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    data=st.integers(1, 3).flatmap(
+        lambda d: arrays(
+            np.int64, st.tuples(st.integers(1, 60), st.just(d)), elements=st.integers(0, 9)
+        )
+    ),
+    r=st.sampled_from([0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 5.0, 13.0]),
+    scale=st.sampled_from([1.0, 0.1, 0.3]),
+)
+def test_property_directed_bonds_equals_oracle(data, r, scale):
+    """Integer coordinates (many exact ties, duplicates) at several scales."""
+    x = data.astype(np.float64) * scale
+    assert_same_csr(directed_bonds(x, r * scale), oracle_csr(x, r * scale))
+
+
+def test_bond_chunks_cover_whole_rows():
+    offsets = np.array([0, 3, 3, 10, 12, 12, 20])
+    for m in (1, 2, 3, 5, 7, 8, 12, 100):
+        ranges = bond_chunks(offsets, m)
+        assert ranges[0][0] == 0 and ranges[-1][1] == 20
+        assert all(b == c for (_, b), (c, _) in itertools.pairwise(ranges))
+        assert all(a < b and a in offsets and b in offsets for a, b in ranges)
+        assert all(b - a <= m or np.sum((offsets > a) & (offsets < b)) == 0 for a, b in ranges)
+    assert bond_chunks(np.zeros(4, dtype=np.int64), 5) == []
+
+
+def reference_build(cloud: PointCloud, horizon: float, rule: str) -> dict[str, np.ndarray]:
+    """build_bonds as it was before the memory-bounded construction (the oracle)."""
+    from peridynamics.bonds.partial_volume import partial_volume_factor, search_radius
+
+    x, dx = cloud.x, cloud.spacing
+    offsets, bond_i, bond_j = oracle_csr(x, search_radius(horizon, dx, rule))  # type: ignore[arg-type]
+    xi = x[bond_j] - x[bond_i]
+    length = np.sqrt(np.einsum("ij,ij->i", xi, xi))
+    beta = partial_volume_factor(length, horizon, dx, rule)  # type: ignore[arg-type]
+    keep = beta > 0
+    if not np.all(keep):
+        bond_i, bond_j = bond_i[keep], bond_j[keep]
+        xi, length, beta = xi[keep], length[keep], beta[keep]
+        offsets = np.zeros(cloud.n_points + 1, dtype=np.int64)
+        np.cumsum(np.bincount(bond_i, minlength=cloud.n_points), out=offsets[1:])
+    return {
+        "offsets": offsets,
+        "bond_i": bond_i,
+        "bond_j": bond_j,
+        "bond_xi": xi,
+        "bond_length": length,
+        "bond_volume": beta * cloud.volume[bond_j],
+    }
+
+
+BUILD_CASES = [
+    ("bar", 3.015, "truncated"),
+    ("rect", 3.0, "truncated"),
+    ("rect", 2.5, "extended"),  # lattice bonds at exactly delta + dx/2 are dropped
+    ("box", 3.015, "truncated"),
+    ("box", 2.0, "none"),
+    ("box", 1.5, "extended"),
+    ("jitter", 3.015, "extended"),
+]
+
+
+@pytest.mark.parametrize(("name", "m", "rule"), BUILD_CASES)
+@pytest.mark.parametrize("chunk_bytes", [1, 3000, 2**40])
+def test_build_bonds_equals_reference_for_any_range_size(monkeypatch, name, m, rule, chunk_bytes):
+    """Ranges of one row, of a few rows (not aligned with family sizes) and of all bonds
+    give the arrays of the old one-shot construction bit for bit."""
+    import peridynamics.bonds.bonds as bonds_module
+    from peridynamics.bonds.partial_volume import search_radius
+
+    monkeypatch.setattr(bonds_module, "SETUP_CHUNK_BYTES", chunk_bytes)
+    monkeypatch.setattr(bonds_module, "CELL_SEARCH_MIN_POINTS", 0)  # the cell-grid search
+    cloud = CLOUDS[name]()
+    b = build_bonds(cloud, m * cloud.spacing, partial_volume=rule)  # type: ignore[arg-type]
+    want = reference_build(cloud, m * cloud.spacing, rule)
+    if rule == "extended" and m == 2.5:  # the dropping path is exercised
+        reach = search_radius(m * cloud.spacing, cloud.spacing, "extended")
+        assert len(want["bond_j"]) < 2 * len(find_pairs(cloud.x, reach))
+    for key, arr in want.items():
+        got = getattr(b, key)
+        assert got.dtype == arr.dtype and np.array_equal(got, arr), key
+        assert got.tobytes() == arr.tobytes(), key
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_cuts_and_surface_correction_do_not_depend_on_the_range_size(monkeypatch, dim):
+    """Crack cuts and the energy-method factors (per-point sums over whole rows) are the
+    same bits with ranges of one bond/row as with one range."""
+    import peridynamics.bonds.bonds as bonds_module
+    import peridynamics.bonds.precrack as precrack_module
+    from peridynamics import BondBasedMaterial, Model
+    from peridynamics.bonds import make_crack
+
+    if dim == 2:
+        cloud = rectangle((0.02, 0.012), 1e-3, thickness=1e-3)
+        crack = make_crack([(0.0045, 0.0), (0.0045, 0.006)])
+    else:
+        cloud = box((0.009, 0.008, 0.007), 1e-3)
+        crack = make_crack([(0.0035, 0.0, 0.0), (0.0035, 0.004, 0.0), (0.0035, 0.0, 0.007)])
+
+    def built() -> tuple[np.ndarray, np.ndarray]:
+        b = build_bonds(cloud, 3.015e-3, cracks=[crack])
+        m = Model(cloud, b, BondBasedMaterial(70e9, 2700.0), surface_correction=True)
+        return b.bond_intact, m.bonds.bond_correction
+
+    intact, corr = built()  # k-d tree search (small cloud), one range
+    assert np.any(intact == 0)
+    monkeypatch.setattr(bonds_module, "CELL_SEARCH_MIN_POINTS", 0)
+    monkeypatch.setattr(bonds_module, "SETUP_CHUNK_BYTES", 1)
+    monkeypatch.setattr(precrack_module, "CHUNK_BONDS", 7)
+    intact_small, corr_small = built()
+    assert np.array_equal(intact, intact_small)
+    assert corr.tobytes() == corr_small.tobytes()

@@ -16,8 +16,26 @@ from peridynamics.bonds.partial_volume import (
     search_radius,
 )
 from peridynamics.bonds.precrack import Crack, crossing_bonds
-from peridynamics.bonds.search import directed_csr, find_pairs
+from peridynamics.bonds.search import bond_chunks, directed_bonds, directed_csr, find_pairs
 from peridynamics.geometry.cloud import PointCloud
+
+#: transient memory of the per-bond set-up work, per range of bonds (bytes): the arrays
+#: of a bond list are filled range by range, so building them costs about their own size
+SETUP_CHUNK_BYTES = 256 * 2**20
+
+#: clouds with at least this many points use the cell-grid search
+#: (:func:`~peridynamics.bonds.search.directed_bonds`, memory-bounded); smaller ones the
+#: k-d tree and a global sort, which skips loading the search kernels (~35 ms once per
+#: process) where its transients are small anyway. Both give the same arrays, bit for bit.
+CELL_SEARCH_MIN_POINTS = 30_000
+
+
+def setup_chunk_bonds(dim: int, bytes_per_bond: int = 0) -> int:
+    """Bonds per range of the set-up work: :data:`SETUP_CHUNK_BYTES` over the transient
+    bytes of one bond (``bytes_per_bond``; by default two gathered positions and about a
+    dozen float64 temporaries)."""
+    per_bond = bytes_per_bond or (16 * dim + 96)
+    return max(SETUP_CHUNK_BYTES // per_bond, 1)
 
 
 @dataclass(frozen=True)
@@ -138,6 +156,15 @@ def build_bonds(
     ------
     ValueError
         If delta < dx, or some point has no bond (it would move freely).
+
+    Notes
+    -----
+    Memory: for clouds of at least :data:`CELL_SEARCH_MIN_POINTS` points the search
+    allocates ``offsets``, ``bond_i`` and ``bond_j`` once (no pair list, no global
+    sort), and every per-bond array is allocated once and filled in ranges of
+    :data:`SETUP_CHUNK_BYTES` of transients, so the peak is the bond list itself plus
+    O(n_points) and one range. The arrays are the same, bit for bit, as the one-shot
+    construction (k-d tree pairs, sort, whole-array expressions).
     """
     dx = cloud.spacing
     if not horizon >= dx * (1 - 1e-9):
@@ -150,15 +177,29 @@ def build_bonds(
             f"unknown partial_volume {partial_volume!r}; use one of {PARTIAL_VOLUME_RULES}"
         )
     x = cloud.x
-    pairs = find_pairs(x, search_radius(horizon, dx, partial_volume))
-    offsets, bond_i, bond_j = directed_csr(pairs, cloud.n_points)
-    xi = x[bond_j] - x[bond_i]
-    length = np.sqrt(np.einsum("ij,ij->i", xi, xi))
-    beta = partial_volume_factor(length, horizon, dx, partial_volume)
-    keep = beta > 0
-    if not np.all(keep):  # drop zero-weight bonds (rare: only at the search rim)
+    radius = search_radius(horizon, dx, partial_volume)
+    if cloud.n_points >= CELL_SEARCH_MIN_POINTS:
+        offsets, bond_i, bond_j = directed_bonds(x, radius)
+    else:
+        offsets, bond_i, bond_j = directed_csr(find_pairs(x, radius), cloud.n_points)
+    n_bonds = len(bond_j)
+    xi = np.empty((n_bonds, cloud.dim))
+    length = np.empty(n_bonds)
+    volume = np.empty(n_bonds)
+    keep: NDArray[np.bool_] | None = None
+    for a, b in bond_chunks(offsets, setup_chunk_bonds(cloud.dim)):  # bounded transients
+        part = xi[a:b]
+        np.subtract(x[bond_j[a:b]], x[bond_i[a:b]], out=part)
+        length[a:b] = np.sqrt(np.einsum("ij,ij->i", part, part))
+        beta = partial_volume_factor(length[a:b], horizon, dx, partial_volume)
+        volume[a:b] = beta * cloud.volume[bond_j[a:b]]
+        if not np.all(beta > 0):  # zero-weight bonds (rare: only at the search rim)
+            if keep is None:
+                keep = np.ones(n_bonds, dtype=bool)
+            keep[a:b] = beta > 0
+    if keep is not None:  # drop them, one array at a time
         bond_i, bond_j = bond_i[keep], bond_j[keep]
-        xi, length, beta = xi[keep], length[keep], beta[keep]
+        xi, length, volume = xi[keep], length[keep], volume[keep]
         offsets = np.zeros(cloud.n_points + 1, dtype=np.int64)
         np.cumsum(np.bincount(bond_i, minlength=cloud.n_points), out=offsets[1:])
     lonely = np.flatnonzero(np.diff(offsets) == 0)
@@ -174,7 +215,7 @@ def build_bonds(
         bond_j=np.ascontiguousarray(bond_j),
         bond_xi=np.ascontiguousarray(xi),
         bond_length=np.ascontiguousarray(length),
-        bond_volume=np.ascontiguousarray(beta * cloud.volume[bond_j]),
+        bond_volume=np.ascontiguousarray(volume),
         bond_correction=np.ones(len(bond_j)),
         bond_intact=np.ones(len(bond_j), dtype=np.uint8),
         horizon=float(horizon),

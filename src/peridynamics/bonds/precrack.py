@@ -97,10 +97,17 @@ def make_crack(points: Sequence[ArrayLike]) -> Crack:
     raise ValueError("a crack is 2 points of 2 coordinates (2-D) or 3 points of 3 (3-D)")
 
 
+#: bonds per range of the bounding-box test of :func:`crossing_bonds` (bounded memory)
+CHUNK_BONDS = 1 << 21
+
+
 def crossing_bonds(
     x: NDArray[np.float64], bond_i: NDArray, bond_j: NDArray, cracks: Sequence[Crack]
 ) -> NDArray[np.bool_]:
-    """Mask of bonds (n_bonds,) that cross any crack. Only bonds near a crack are tested."""
+    """Mask of bonds (n_bonds,) that cross any crack. Only bonds near a crack are tested.
+
+    The bounding-box test runs over ranges of :data:`CHUNK_BONDS` bonds (its transients
+    stay bounded); the bonds near a crack are then tested in one call, as before."""
     cut = np.zeros(len(bond_i), dtype=bool)
     for crack in cracks:  # a handful of cracks, each vectorised over bonds
         if isinstance(crack, SegmentCrack):
@@ -109,9 +116,26 @@ def crossing_bonds(
             p0, ea, eb = (np.asarray(v) for v in (crack.origin, crack.edge_a, crack.edge_b))
             corners = np.array([p0, p0 + ea, p0 + eb, p0 + ea + eb])
         lo, hi = corners.min(axis=0), corners.max(axis=0)
-        a, b = x[bond_i], x[bond_j]
-        near = np.all((np.maximum(a, b) >= lo - 1e-12) & (np.minimum(a, b) <= hi + 1e-12), axis=1)
-        idx = np.flatnonzero(near)
+        idx = np.concatenate(
+            [_near_box(x, bond_i, bond_j, lo, hi, s) for s in range(0, len(bond_i), CHUNK_BONDS)]
+            or [np.zeros(0, dtype=np.intp)]
+        )
         if idx.size:
-            cut[idx[crack.crosses(a[idx], b[idx])]] = True
+            cut[idx[crack.crosses(x[bond_i[idx]], x[bond_j[idx]])]] = True
     return cut
+
+
+def _near_box(
+    x: NDArray[np.float64],
+    bond_i: NDArray,
+    bond_j: NDArray,
+    lo: NDArray[np.float64],
+    hi: NDArray[np.float64],
+    start: int,
+) -> NDArray[np.intp]:
+    """Indices of the bonds ``start:start + CHUNK_BONDS`` whose segment's bounding box
+    meets the box ``[lo, hi]`` (widened by 1e-12 m)."""
+    stop = min(start + CHUNK_BONDS, len(bond_i))
+    a, b = x[bond_i[start:stop]], x[bond_j[start:stop]]
+    near = np.all((np.maximum(a, b) >= lo - 1e-12) & (np.minimum(a, b) <= hi + 1e-12), axis=1)
+    return np.flatnonzero(near) + start

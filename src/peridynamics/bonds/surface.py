@@ -26,7 +26,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from peridynamics.bonds.bonds import Bonds
+from peridynamics.bonds.bonds import Bonds, setup_chunk_bonds
+from peridynamics.bonds.search import bond_chunks
 
 #: the dimensionless fourth moment <n_x^4> of the continuous ball, 3 / (d (d + 2))
 _COS4 = {1: 1.0, 2: 3.0 / 8.0, 3: 1.0 / 5.0}
@@ -50,14 +51,21 @@ def energy_correction_factors(
         Strain-energy density of the infinite body under uniaxial strain ``strain`` (J/m^3).
     """
     n, dim = x.shape
-    xi, length = bonds.bond_xi, bonds.bond_length
+    xi, length, owner = bonds.bond_xi, bonds.bond_length, bonds.bond_i
     lam = np.empty((dim, n))
+    w = np.empty(n)
     for k in range(dim):  # one uniform-strain evaluation per direction
-        # linearised stretch xi.eta/|xi|^2 of u = strain * x_k e_k: exact, so the factors
-        # carry neither round-off (small strain) nor geometric nonlinearity (large strain)
-        s = strain * (xi[:, k] / length) ** 2
-        w = 0.25 * np.bincount(bonds.bond_i, stiffness * s * s * length, minlength=n)
-        lam[k] = continuum_energy_density / w
+        w[:] = 0.0  # points without bonds keep 0, as in one bincount over all bonds
+        # ranges of whole rows: each point's sum adds the same terms in the same order
+        for a, b in bond_chunks(bonds.offsets, setup_chunk_bonds(dim)):
+            # linearised stretch xi.eta/|xi|^2 of u = strain * x_k e_k: exact, so the
+            # factors carry neither round-off (small strain) nor geometric nonlinearity
+            s = strain * (xi[a:b, k] / length[a:b]) ** 2
+            p0, p1 = int(owner[a]), int(owner[b - 1]) + 1
+            w[p0:p1] = np.bincount(
+                owner[a:b] - p0, stiffness[a:b] * s * s * length[a:b], minlength=p1 - p0
+            )
+        lam[k] = continuum_energy_density / (0.25 * w)
     return bond_factors_from_point_ratios(bonds, lam)
 
 
@@ -67,12 +75,17 @@ def bond_factors_from_point_ratios(
     """Bond factors G = [sum_k (n_k / G_k)^2]^(-1/2), G_k = (lambda_k,i + lambda_k,j)/2,
     shape (n_bonds,), from the per-direction point ratios ``ratios`` (dim, n_points)
     = W_inf / W_k,i of any model family (the shared step of the energy method)."""
-    n_hat = bonds.bond_xi / bonds.bond_length[:, None]
-    acc = np.zeros(bonds.n_bonds)
-    for k in range(ratios.shape[0]):  # loop over the (<= 3) directions only
-        g_k = 0.5 * (ratios[k][bonds.bond_i] + ratios[k][bonds.bond_j])
-        acc += (n_hat[:, k] / g_k) ** 2
-    return 1.0 / np.sqrt(acc)
+    out = np.empty(bonds.n_bonds)
+    dim = ratios.shape[0]
+    for a, b in bond_chunks(bonds.offsets, setup_chunk_bonds(dim)):  # bounded transients
+        bi, bj = bonds.bond_i[a:b], bonds.bond_j[a:b]
+        n_hat = bonds.bond_xi[a:b] / bonds.bond_length[a:b, None]
+        acc = np.zeros(b - a)
+        for k in range(dim):  # loop over the (<= 3) directions only
+            g_k = 0.5 * (ratios[k][bi] + ratios[k][bj])
+            acc += (n_hat[:, k] / g_k) ** 2
+        out[a:b] = 1.0 / np.sqrt(acc)
+    return out
 
 
 def moment_correction_factors(
