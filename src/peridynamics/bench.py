@@ -24,7 +24,20 @@ CASES = {
     "quick": {1: 100_000, 2: 200, 3: 30},
     "default": {1: 1_000_000, 2: 1000, 3: 60},
     "full": {1: 1_000_000, 2: 1000, 3: 100},
+    "huge": {1: 8_000_000, 2: 2000, 3: 200},
 }
+#: sizes whose NumPy baseline is skipped (its half list and temporaries need about four
+#: times the memory of the package's bond store: 200^3 would not fit in 24 GiB)
+NO_NUMPY_BASELINE = ("huge",)
+
+
+def peak_rss_bytes() -> int:
+    """Peak resident set size of this process so far (bytes; Linux/macOS)."""
+    import resource
+    import sys
+
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return int(peak if sys.platform == "darwin" else peak * 1024)
 
 
 @dataclass
@@ -41,6 +54,8 @@ class BenchResult:
     speedup: float
     bytes_per_bond: float
     setup_s: float
+    peak_rss_gib: float
+    held_arrays: tuple[str, ...]
 
     def as_dict(self) -> dict:
         """JSON-ready mapping."""
@@ -74,8 +89,21 @@ def run_case(
     t0 = time.perf_counter()
     solver.run(state, steps)
     numba_s = (time.perf_counter() - t0) / steps
-
     b = model.bonds
+    # what the step holds per directed bond: the bond list's arrays (neighbour index,
+    # as-built flag and whatever was derived so far), the stiffness, the State's flags
+    held = b.nbytes + model.stiffness.nbytes + state.intact.nbytes
+    held_arrays = b.held
+    peak = peak_rss_bytes()
+    if numpy_steps <= 0:
+        return BenchResult(
+            dim=dim, points=model.n_points, bonds=b.n_bonds, seconds_per_step=numba_s,
+            bonds_per_second=b.n_bonds / numba_s, numpy_seconds_per_step=float("nan"),
+            numpy_bonds_per_second=float("nan"), speedup=float("nan"),
+            bytes_per_bond=held / b.n_bonds, setup_s=setup, peak_rss_gib=peak / 2**30,
+            held_arrays=held_arrays,
+        )  # fmt: skip
+
     half = b.bond_i < b.bond_j
     pi, pj = b.bond_i[half].astype(np.intp), b.bond_j[half].astype(np.intp)
     length = b.bond_length[half]
@@ -93,7 +121,6 @@ def run_case(
         f = reference.force_half_list(x, u, pi, pj, length, k_ij, k_ji)
         v += 0.5 * dt * f * inv_rho
     numpy_s = (time.perf_counter() - t0) / numpy_steps
-    mem = b.nbytes + model.stiffness.nbytes + model.inv_length.nbytes + state.intact.nbytes
     return BenchResult(
         dim=dim,
         points=model.n_points,
@@ -103,13 +130,18 @@ def run_case(
         numpy_seconds_per_step=numpy_s,
         numpy_bonds_per_second=b.n_bonds / numpy_s,
         speedup=numpy_s / numba_s,
-        bytes_per_bond=mem / b.n_bonds,
+        bytes_per_bond=held / b.n_bonds,
         setup_s=setup,
+        peak_rss_gib=peak / 2**30,
+        held_arrays=held_arrays,
     )
 
 
 def run_benchmarks(
     size: str = "default", dims: tuple[int, ...] = (1, 2, 3), steps: int = 20
 ) -> list[BenchResult]:
-    """Run the benchmark cases of ``size`` ("quick", "default", "full")."""
-    return [run_case(d, CASES[size][d], steps=steps) for d in dims]
+    """Run the benchmark cases of ``size`` ("quick", "default", "full", "huge"); "huge"
+    skips the NumPy baseline. Peak RSS is that of the whole process so far: run one
+    dimension per process to read it per case."""
+    numpy_steps = 0 if size in NO_NUMPY_BASELINE else 3
+    return [run_case(d, CASES[size][d], steps=steps, numpy_steps=numpy_steps) for d in dims]

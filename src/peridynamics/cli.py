@@ -481,13 +481,13 @@ def cmd_bench(args: argparse.Namespace) -> int:
     else:
         print(
             f"{'dim':>3} {'points':>9} {'bonds':>11} {'s/step':>9} {'bonds/s':>10} "
-            f"{'numpy b/s':>10} {'speedup':>8} {'B/bond':>7}"
+            f"{'numpy b/s':>10} {'speedup':>8} {'B/bond':>7} {'peak GiB':>8}"
         )
         for r in results:
             print(
                 f"{r.dim:>3} {r.points:>9} {r.bonds:>11} {r.seconds_per_step:>9.4f} "
                 f"{r.bonds_per_second:>10.3g} {r.numpy_bonds_per_second:>10.3g} "
-                f"{r.speedup:>8.1f} {r.bytes_per_bond:>7.1f}"
+                f"{r.speedup:>8.1f} {r.bytes_per_bond:>7.1f} {r.peak_rss_gib:>8.2f}"
             )
     return EXIT_OK
 
@@ -858,7 +858,13 @@ def build_parser() -> argparse.ArgumentParser:
 
     b = sub.add_parser("bench", help="benchmark the explicit PMB step (Numba vs NumPy)")
     b.add_argument("--json", action="store_true", help="print a JSON list of cases")
-    b.add_argument("--size", choices=["quick", "default", "full"], default="default")
+    b.add_argument(
+        "--size",
+        choices=["quick", "default", "full", "huge"],
+        default="default",
+        help="default: 1-D 1e6, 2-D 1000^2, 3-D 60^3 points; full: 3-D 100^3; huge: 1-D 8e6, "
+        "2-D 2000^2, 3-D 200^3 (8 million points, about 14 GiB; no NumPy baseline)",
+    )
     b.add_argument("--dims", default="1,2,3", help="comma-separated dimensions")
     b.add_argument("--steps", type=int, default=20)
     b.set_defaults(func=cmd_bench)

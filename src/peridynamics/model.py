@@ -119,7 +119,6 @@ class Model:
         bind = getattr(self.damage_law, "bind", None)
         if bind is not None:  # a law that reads the force model (stresses, shape tensors)
             bind(self.force_model)
-        self.inv_length = self.bonds.inv_length
         self.time_step = 1.0  # set by an explicit solver: the friction law reads it
         self.friction_power = 0.0  # W, of the last evaluation (<= 0)
         self.density = np.full(c.n_points, self.material.density)
@@ -149,6 +148,11 @@ class Model:
     def dim(self) -> int:
         """Spatial dimension."""
         return self.cloud.dim
+
+    @property
+    def inv_length(self) -> NDArray[np.float64]:
+        """1/|xi| (1/m), shape (n_bonds,), made by the bond list on first use."""
+        return self.bonds.inv_length
 
     @property
     def n_points(self) -> int:
@@ -337,7 +341,8 @@ class Model:
     ) -> int:
         """:meth:`evaluate` with commit on bare arrays (a convenience for scripts and tests
         of displacement-only models; solvers pass a State). ``intact`` is updated in
-        place. Models with history fields (SED softening) need :meth:`evaluate`."""
+        place and ``max_stretch`` filled. Models with history fields (SED softening) need
+        :meth:`evaluate`."""
         if self._sed is not None or any(f.history for f in self.force_model.state_fields()):
             raise ValueError("a model with history fields keeps them in a State: use evaluate")
         if self._viscous is not None and v is None:
@@ -350,7 +355,9 @@ class Model:
             max_stretch=max_stretch,
         )
         self._add_force_model_fields(s)
-        return self.evaluate(s, commit=True)
+        broken = self.evaluate(s, commit=True)
+        self.force_model.update_max_stretch(s)
+        return broken
 
     def force_of(self, u: NDArray, intact: NDArray[np.uint8] | None = None) -> NDArray:
         """Pure internal force density (N/m^3) at displacement ``u`` (no damage), a new

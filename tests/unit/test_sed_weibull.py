@@ -268,16 +268,17 @@ def test_fused_2d_force_and_energy_equal_the_separate_passes(tensile: bool) -> N
         f, ms, nb = np.zeros_like(u), np.zeros(cloud.n_points), np.zeros(cloud.n_points, np.int64)
         energy = np.zeros(cloud.n_points)
         if fused:
-            n = bond_based.force_sed_2d(cloud.x, u, b.offsets, b.bond_j, model.inv_length, k0,
-                                        intact, s0, s0_min, f, ms, nb,
-                                        0.25 * k0 * b.bond_length, tensile, energy)  # fmt: skip
+            n = bond_based.force_sed_2d(cloud.x, u, b.offsets, b.bond_j, k0, intact, s0,
+                                        s0_min, f, nb, 0.25 * k0 * b.bond_length, tensile,
+                                        energy)  # fmt: skip
         else:
-            n = bond_based.force_2d(cloud.x, u, b.offsets, b.bond_j, model.inv_length, k0,
-                                    intact, s0, s0_min, f, ms, nb)  # fmt: skip
+            n = bond_based.force_2d(cloud.x, u, b.offsets, b.bond_j, k0, intact, s0, s0_min,
+                                    f, nb)  # fmt: skip
             sed_update(cloud.x, u, b.offsets, b.bond_j, b.bond_length, k0, intact,
                        np.full(cloud.n_points, 1e300), np.full(cloud.n_points, 1e300), 10,
                        np.zeros(cloud.n_points, np.int64), energy, tensile,
                        np.zeros(cloud.n_points, np.uint8))  # fmt: skip
+        bond_based.largest_stretch(cloud.x, u, b.offsets, b.bond_j, intact, ms)
         out[fused] = (n, f, ms, intact, energy)
     (n0, f0, m0, i0, e0), (n1, f1, m1, i1, e1) = out[False], out[True]
     assert n0 == n1 > 0 and np.array_equal(i0, i1)

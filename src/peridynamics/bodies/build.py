@@ -10,7 +10,7 @@ geometry's order, so its results are those of a single-body run bit for bit.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -120,8 +120,7 @@ def select_bonds(bonds: Bonds, keep: NDArray[np.bool_]) -> Bonds:
     n = bonds.n_points
     offsets = np.zeros(n + 1, dtype=np.int64)
     np.cumsum(np.bincount(bonds.bond_i[keep], minlength=n), out=offsets[1:])
-    return replace(
-        bonds,
+    return bonds.replace(
         offsets=offsets,
         bond_i=np.ascontiguousarray(bonds.bond_i[keep]),
         bond_j=np.ascontiguousarray(bonds.bond_j[keep]),

@@ -18,7 +18,7 @@ models: bonds across the interface with their own micromodulus and critical stre
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -76,8 +76,7 @@ def sub_bonds(bonds: Bonds, start: int, stop: int) -> Bonds:
     j = bonds.bond_j[a:b]
     if j.size and (int(j.min()) < start or int(j.max()) >= stop):
         raise ValueError(f"bonds of points {start}:{stop} reach outside them")
-    return replace(
-        bonds,
+    return bonds.replace(
         offsets=np.ascontiguousarray(bonds.offsets[start : stop + 1] - a),
         bond_i=np.ascontiguousarray(bonds.bond_i[a:b] - start, dtype=np.int32),
         bond_j=np.ascontiguousarray(j - start, dtype=np.int32),
@@ -86,6 +85,8 @@ def sub_bonds(bonds: Bonds, start: int, stop: int) -> Bonds:
         bond_volume=bonds.bond_volume[a:b],
         bond_correction=bonds.bond_correction[a:b],
         bond_intact=bonds.bond_intact[a:b],
+        x=None if bonds.x is None else bonds.x[start:stop],
+        point_volume=None if bonds.point_volume is None else bonds.point_volume[start:stop],
     )
 
 
@@ -97,8 +98,7 @@ def concat_bonds(parts: Sequence[Bonds], starts: Sequence[int], template: Bonds)
     for b in parts:
         offsets.append(b.offsets[1:] + shift)
         shift += b.n_bonds
-    return replace(
-        template,
+    return template.replace(
         offsets=np.concatenate(offsets),
         bond_i=np.concatenate([b.bond_i + s for b, s in zip(parts, starts, strict=True)]).astype(
             np.int32
@@ -292,6 +292,15 @@ class CompositeForceModel(ForceModel):
         for f in self.interfaces:
             intact = state["interface_intact"][k : k + f.n_bonds]
             f.add_force(self.cloud.x, state.u, intact, state.force, state.max_stretch)
+            k += f.n_bonds
+
+    def update_max_stretch(self, state: State) -> None:
+        for m, view in zip(self.models, self.views(state), strict=True):
+            m.update_max_stretch(view)
+        k = 0
+        for f in self.interfaces:
+            intact = state["interface_intact"][k : k + f.n_bonds]
+            f.raise_max_stretch(self.cloud.x, state.u, intact, state.max_stretch)
             k += f.n_bonds
 
     def energy_density(self, state: State) -> NDArray[np.float64]:

@@ -89,10 +89,24 @@ class InterfaceBonds:
             self._force = np.zeros_like(force)
         b = self.bonds
         bond_based.FORCE_KERNELS[x.shape[1]](
-            x, u, b.offsets, b.bond_j, self.inv_length, self.stiffness, intact, self._never,
-            self._never, self._force, self._smax, self._scratch,
+            x, u, b.offsets, b.bond_j, self.stiffness, intact, self._never, self._never,
+            self._force, self._scratch,
         )  # fmt: skip
         force += self._force
+        self.raise_max_stretch(x, u, intact, max_stretch)
+
+    def raise_max_stretch(
+        self,
+        x: NDArray[np.float64],
+        u: NDArray[np.float64],
+        intact: NDArray[np.uint8],
+        max_stretch: NDArray[np.float64],
+    ) -> None:
+        """Raise ``max_stretch`` (n,) where an intact interface bond is stretched more."""
+        if self.n_bonds == 0:
+            return
+        b = self.bonds
+        bond_based.largest_stretch(x, u, b.offsets, b.bond_j, intact, self._smax)
         np.maximum(max_stretch, self._smax, out=max_stretch)
 
     def energy_density(
@@ -102,9 +116,7 @@ class InterfaceBonds:
         out = np.zeros(self.bonds.n_points)
         if self.n_bonds:
             b = self.bonds
-            bond_based.strain_energy_density(
-                x, u, b.offsets, b.bond_j, b.bond_length, self.stiffness, intact, out
-            )
+            bond_based.strain_energy_density(x, u, b.offsets, b.bond_j, self.stiffness, intact, out)
         return out
 
     def stiffness_bound(self) -> NDArray[np.float64]:
@@ -112,7 +124,7 @@ class InterfaceBonds:
         out = np.zeros(self.bonds.n_points)
         if self.n_bonds:
             b = self.bonds
-            bond_based.stiffness_bound_per_point(b.offsets, b.bond_length, self.stiffness, out)
+            out = np.bincount(b.bond_i, self.stiffness / b.bond_length, b.n_points).astype(float)
         return out
 
     def trial(
@@ -124,9 +136,7 @@ class InterfaceBonds:
             return 0
         b = self.bonds
         self._count = int(
-            bond_based.break_trial(
-                x, u, b.offsets, b.bond_j, self.inv_length, intact, self._s0, self._proposed
-            )
+            bond_based.break_trial(x, u, b.offsets, b.bond_j, intact, self._s0, self._proposed)
         )
         return self._count
 

@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
-from functools import cached_property
 
 import numpy as np
 from numpy.typing import NDArray
@@ -38,49 +36,162 @@ def setup_chunk_bonds(dim: int, bytes_per_bond: int = 0) -> int:
     return max(SETUP_CHUNK_BYTES // per_bond, 1)
 
 
-@dataclass(frozen=True)
+#: per-bond arrays a :class:`Bonds` can hold; all but ``bond_j`` and ``bond_intact`` are
+#: derived from the positions on first use when they were not given
+PER_BOND = (
+    "bond_i", "bond_j", "bond_xi", "bond_length", "bond_volume", "bond_correction",
+    "bond_intact",
+)  # fmt: skip
+#: arrays that depend on which bonds there are (not on their state)
+_TOPOLOGY = ("offsets", "bond_j")
+
+
 class Bonds:
     """Directed full bond list (both (i, j) and (j, i)), bonds of point i contiguous.
+
+    What is stored per directed bond is the neighbour index (int32) and the as-built
+    intact flag (uint8): 5 bytes. Everything else per bond is derived from the
+    reference positions ``x``, the point volumes and the spacing on first use (and
+    then kept), unless it was given (a surface correction, sub-lists of bodies): a run
+    whose kernels recompute |xi| from ``x`` (the bond-based force pass, its diagnostics)
+    never materialises those arrays. :meth:`bond_range` gives a range of any of them
+    without keeping the whole.
 
     Attributes
     ----------
     offsets : (n_points + 1,) int64
         Bonds of point ``i`` are ``offsets[i]:offsets[i + 1]``.
-    bond_i, bond_j : (n_bonds,) int32
-        Owner point and neighbour point of each directed bond.
-    bond_xi : (n_bonds, dim) float64
-        Reference bond vector ``x_j - x_i`` (m).
-    bond_length : (n_bonds,) float64
-        ``|xi|`` (m).
-    bond_volume : (n_bonds,) float64
-        Partial volume ``beta * V_j`` (m^3) used in every family sum.
-    bond_correction : (n_bonds,) float64
-        Surface-correction factor (1 without correction), symmetric in (i, j).
+    bond_j : (n_bonds,) int32
+        Neighbour point of each directed bond.
     bond_intact : (n_bonds,) uint8
         1 for intact bonds, 0 for bonds cut by pre-cracks.
+    bond_i : (n_bonds,) int32
+        Owner point (derived from ``offsets``).
+    bond_xi : (n_bonds, dim) float64
+        Reference bond vector ``x_j - x_i`` (m) (derived).
+    bond_length : (n_bonds,) float64
+        ``|xi|`` (m) (derived).
+    bond_volume : (n_bonds,) float64
+        Partial volume ``beta * V_j`` (m^3) used in every family sum (derived).
+    bond_correction : (n_bonds,) float64
+        Surface-correction factor (1 without correction), symmetric in (i, j).
     horizon : float
         delta (m).
     partial_volume : str
         Rule used for ``bond_volume`` (see :mod:`peridynamics.bonds.partial_volume`).
     """
 
-    offsets: NDArray[np.int64]
-    bond_i: NDArray[np.int32]
-    bond_j: NDArray[np.int32]
-    bond_xi: NDArray[np.float64]
-    bond_length: NDArray[np.float64]
-    bond_volume: NDArray[np.float64]
-    bond_correction: NDArray[np.float64]
-    bond_intact: NDArray[np.uint8]
-    horizon: float
-    partial_volume: str
+    def __init__(
+        self,
+        offsets: NDArray[np.int64],
+        bond_j: NDArray[np.int32],
+        bond_intact: NDArray[np.uint8] | None = None,
+        horizon: float = 0.0,
+        partial_volume: str = "truncated",
+        *,
+        x: NDArray[np.float64] | None = None,
+        point_volume: NDArray[np.float64] | None = None,
+        spacing: float = 0.0,
+        **given: NDArray | None,
+    ) -> None:
+        unknown = set(given) - set(PER_BOND)
+        if unknown:
+            raise TypeError(f"unknown bond arrays {sorted(unknown)}; known: {PER_BOND}")
+        self.offsets = offsets
+        self.bond_j = bond_j
+        self.horizon = float(horizon)
+        self.partial_volume = str(partial_volume)
+        self.x = x
+        self.point_volume = point_volume
+        self.spacing = float(spacing)
+        self._arrays: dict[str, NDArray] = {k: v for k, v in given.items() if v is not None}
+        if bond_intact is None:
+            bond_intact = np.ones(len(bond_j), dtype=np.uint8)
+        self.bond_intact = bond_intact
 
-    @cached_property
+    # -- derived per-bond arrays, kept once made ---------------------------------------
+    def _get(self, name: str) -> NDArray:
+        got = self._arrays.get(name)
+        if got is None:
+            got = self._derive(name, 0, self.n_bonds)
+            self._arrays[name] = got
+        return got
+
+    @property
+    def bond_i(self) -> NDArray[np.int32]:
+        return self._get("bond_i")
+
+    @property
+    def bond_xi(self) -> NDArray[np.float64]:
+        return self._get("bond_xi")
+
+    @property
+    def bond_length(self) -> NDArray[np.float64]:
+        return self._get("bond_length")
+
+    @property
+    def bond_volume(self) -> NDArray[np.float64]:
+        return self._get("bond_volume")
+
+    @property
+    def bond_correction(self) -> NDArray[np.float64]:
+        return self._get("bond_correction")
+
+    @property
     def inv_length(self) -> NDArray[np.float64]:
-        """``1 / |xi|`` (1/m), shape (n_bonds,): computed once and shared by the force
-        model, the evaluator and the damage law."""
-        return 1.0 / self.bond_length
+        """``1 / |xi|`` (1/m), shape (n_bonds,): computed once and shared."""
+        got = self._arrays.get("inv_length")
+        if got is None:
+            got = self._arrays["inv_length"] = 1.0 / self.bond_length
+        return got
 
+    def bond_range(self, name: str, a: int, b: int) -> NDArray:
+        """Bonds ``a:b`` of the per-bond array ``name`` (a view when it is kept, else
+        computed for that range alone: the same bits as the whole array's)."""
+        got = self._arrays.get(name)
+        if got is not None:
+            return got[a:b]
+        return self._derive(name, a, b)
+
+    def _owners(self, a: int, b: int) -> NDArray[np.int32]:
+        p0 = int(np.searchsorted(self.offsets, a, side="right")) - 1
+        p1 = int(np.searchsorted(self.offsets, b, side="left"))
+        rows = np.arange(p0, p1, dtype=np.int32)
+        counts = np.diff(np.clip(self.offsets[p0 : p1 + 1], a, b)).astype(np.int64)
+        return np.repeat(rows, counts)
+
+    def _derive(self, name: str, a: int, b: int) -> NDArray:
+        if name == "bond_i":
+            return self._owners(a, b)
+        if name == "bond_correction":
+            return np.ones(b - a)
+        if name == "bond_intact":
+            return self.bond_intact[a:b]
+        if self.x is None:
+            raise ValueError(
+                f"this bond list was built without positions and has no {name!r}; pass it "
+                "or build the list with build_bonds"
+            )
+        x = self.x
+        if name == "bond_xi":
+            return x[self.bond_j[a:b]] - x[self.bond_range("bond_i", a, b)]
+        xi = self.bond_range("bond_xi", a, b)
+        length = np.sqrt(np.einsum("ij,ij->i", xi, xi))
+        if name == "bond_length":
+            return length
+        if name == "bond_volume":
+            if self.point_volume is None:
+                raise ValueError("this bond list has no point volumes; pass bond_volume")
+            beta = partial_volume_factor(
+                length,
+                self.horizon,
+                self.spacing,
+                self.partial_volume,  # type: ignore[arg-type]
+            )
+            return beta * self.point_volume[self.bond_j[a:b]]
+        raise KeyError(name)
+
+    # -- sizes --------------------------------------------------------------------------
     @property
     def n_bonds(self) -> int:
         """Number of directed bonds."""
@@ -98,19 +209,32 @@ class Bonds:
 
     @property
     def nbytes(self) -> int:
-        """Memory held by the per-bond arrays (bytes)."""
-        return sum(
-            a.nbytes
-            for a in (
-                self.bond_i,
-                self.bond_j,
-                self.bond_xi,
-                self.bond_length,
-                self.bond_volume,
-                self.bond_correction,
-                self.bond_intact,
-            )
-        )
+        """Memory held now by the per-bond arrays (bytes): the stored ones and those
+        derived so far."""
+        held: list[NDArray] = [self.bond_j, self.bond_intact, *self._arrays.values()]
+        return int(sum(a.nbytes for a in held))
+
+    @property
+    def held(self) -> tuple[str, ...]:
+        """Names of the per-bond arrays held now besides ``bond_j`` and ``bond_intact``."""
+        return tuple(self._arrays)
+
+    # -- copies -------------------------------------------------------------------------
+    def replace(self, **changes: object) -> Bonds:
+        """A copy with ``changes`` (any constructor argument). Derived arrays are kept
+        unless the topology (``offsets``, ``bond_j``) changes."""
+        keep_derived = not any(k in changes for k in _TOPOLOGY)
+        kw: dict[str, object] = dict(
+            offsets=self.offsets, bond_j=self.bond_j, bond_intact=self.bond_intact,
+            horizon=self.horizon, partial_volume=self.partial_volume, x=self.x,
+            point_volume=self.point_volume, spacing=self.spacing,
+        )  # fmt: skip
+        if keep_derived:
+            kw.update({k: v for k, v in self._arrays.items() if k in PER_BOND})
+        elif "bond_correction" in self._arrays and "bond_correction" not in changes:
+            raise ValueError("changing the bonds of a corrected list needs bond_correction")
+        kw.update(changes)
+        return Bonds(**kw)  # type: ignore[arg-type]
 
     def reverse_index(self) -> NDArray[np.int64]:
         """Index of bond (j, i) for every bond (i, j), shape (n_bonds,)."""
@@ -124,14 +248,14 @@ class Bonds:
         hit = crossing_bonds(x, self.bond_i, self.bond_j, cracks)
         intact = self.bond_intact.copy()
         intact[hit] = 0
-        return replace(self, bond_intact=intact)
+        return self.replace(bond_intact=intact)
 
     def with_correction(self, factors: NDArray[np.float64]) -> Bonds:
         """Return a copy with per-bond surface-correction ``factors`` (n_bonds,)."""
         f = np.ascontiguousarray(factors, dtype=np.float64)
         if f.shape != (self.n_bonds,):
             raise ValueError(f"expected {self.n_bonds} correction factors, got {f.shape}")
-        return replace(self, bond_correction=f)
+        return self.replace(bond_correction=f)
 
 
 def build_bonds(
@@ -161,10 +285,11 @@ def build_bonds(
     -----
     Memory: for clouds of at least :data:`CELL_SEARCH_MIN_POINTS` points the search
     allocates ``offsets``, ``bond_i`` and ``bond_j`` once (no pair list, no global
-    sort), and every per-bond array is allocated once and filled in ranges of
-    :data:`SETUP_CHUNK_BYTES` of transients, so the peak is the bond list itself plus
-    O(n_points) and one range. The arrays are the same, bit for bit, as the one-shot
-    construction (k-d tree pairs, sort, whole-array expressions).
+    sort); the partial volumes are checked in ranges of :data:`SETUP_CHUNK_BYTES` of
+    transients, and only ``offsets``, ``bond_j`` (int32) and ``bond_intact`` (uint8) are
+    kept: 5 bytes per directed bond. The other per-bond arrays are derived on first use
+    (:class:`Bonds`), the same bits as the one-shot construction (k-d tree pairs, sort,
+    whole-array expressions).
     """
     dx = cloud.spacing
     if not horizon >= dx * (1 - 1e-9):
@@ -182,26 +307,20 @@ def build_bonds(
         offsets, bond_i, bond_j = directed_bonds(x, radius)
     else:
         offsets, bond_i, bond_j = directed_csr(find_pairs(x, radius), cloud.n_points)
-    n_bonds = len(bond_j)
-    xi = np.empty((n_bonds, cloud.dim))
-    length = np.empty(n_bonds)
-    volume = np.empty(n_bonds)
     keep: NDArray[np.bool_] | None = None
     for a, b in bond_chunks(offsets, setup_chunk_bonds(cloud.dim)):  # bounded transients
-        part = xi[a:b]
-        np.subtract(x[bond_j[a:b]], x[bond_i[a:b]], out=part)
-        length[a:b] = np.sqrt(np.einsum("ij,ij->i", part, part))
-        beta = partial_volume_factor(length[a:b], horizon, dx, partial_volume)
-        volume[a:b] = beta * cloud.volume[bond_j[a:b]]
+        xi = x[bond_j[a:b]] - x[bond_i[a:b]]
+        length = np.sqrt(np.einsum("ij,ij->i", xi, xi))
+        beta = partial_volume_factor(length, horizon, dx, partial_volume)
         if not np.all(beta > 0):  # zero-weight bonds (rare: only at the search rim)
             if keep is None:
-                keep = np.ones(n_bonds, dtype=bool)
+                keep = np.ones(len(bond_j), dtype=bool)
             keep[a:b] = beta > 0
-    if keep is not None:  # drop them, one array at a time
+    if keep is not None:  # drop them
         bond_i, bond_j = bond_i[keep], bond_j[keep]
-        xi, length, volume = xi[keep], length[keep], volume[keep]
         offsets = np.zeros(cloud.n_points + 1, dtype=np.int64)
         np.cumsum(np.bincount(bond_i, minlength=cloud.n_points), out=offsets[1:])
+    del bond_i  # derived again from the offsets when someone asks
     lonely = np.flatnonzero(np.diff(offsets) == 0)
     if lonely.size:
         k = int(lonely[0])
@@ -211,15 +330,13 @@ def build_bonds(
         )
     bonds = Bonds(
         offsets=offsets,
-        bond_i=np.ascontiguousarray(bond_i),
-        bond_j=np.ascontiguousarray(bond_j),
-        bond_xi=np.ascontiguousarray(xi),
-        bond_length=np.ascontiguousarray(length),
-        bond_volume=np.ascontiguousarray(volume),
-        bond_correction=np.ones(len(bond_j)),
+        bond_j=np.ascontiguousarray(bond_j, dtype=np.int32),
         bond_intact=np.ones(len(bond_j), dtype=np.uint8),
         horizon=float(horizon),
         partial_volume=str(partial_volume),
+        x=x,
+        point_volume=cloud.volume,
+        spacing=dx,
     )
     if cracks:
         bonds = bonds.cut(x, cracks)

@@ -134,7 +134,6 @@ def moment_correction_factors(
     ndarray, shape (n_bonds,)
         Symmetric factors G_ij = G_ji > 0.
     """
-    from dataclasses import replace
 
     from peridynamics.models.lps import calibrate_influence  # models import bonds
 
@@ -143,7 +142,7 @@ def moment_correction_factors(
     m_i = np.bincount(bonds.bond_i, w, minlength=n)
     # W_inf = 1/4 eps^2 M_xxxx = 1/4 eps^2 m_inf <n_x^4>
     m_inf = 4.0 * continuum_energy_density / (strain * strain * _COS4[dim])
-    every = replace(bonds, bond_intact=np.ones_like(bonds.bond_intact))
+    every = bonds.replace(bond_intact=np.ones_like(bonds.bond_intact))
     # calibrate_influence weighs bond k by weight_k |xi_k|^2: pass w / |xi|^2
     g, _ = calibrate_influence(every, stiffness / bonds.bond_length)
     h = g * (m_inf / m_i)[bonds.bond_i]

@@ -64,9 +64,21 @@ class CriticalStretch:
 
 
 def family_minimum(bonds: Bonds, s0: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Smallest bond threshold (s0_i + s0_j)/2 over each family, shape (n_points,)."""
-    per_bond = 0.5 * (s0[bonds.bond_i] + s0[bonds.bond_j])
-    return np.minimum.reduceat(per_bond, bonds.offsets[:-1])  # every family is non-empty
+    """Smallest bond threshold (s0_i + s0_j)/2 over each family, shape (n_points,).
+
+    Taken as (s0_i + min_j s0_j)/2 (rounding is monotonic: the same bits), range by
+    range of bonds, so no per-bond array is made."""
+    from peridynamics.bonds.bonds import setup_chunk_bonds
+    from peridynamics.bonds.search import bond_chunks
+
+    offsets = bonds.offsets
+    nearest = np.empty(bonds.n_points)
+    for a, b in bond_chunks(offsets, setup_chunk_bonds(1, 16)):
+        p0 = int(np.searchsorted(offsets, a, side="right")) - 1
+        p1 = int(np.searchsorted(offsets, b, side="left"))
+        # every family is non-empty, so reduceat sees increasing starts
+        nearest[p0:p1] = np.minimum.reduceat(s0[bonds.bond_j[a:b]], offsets[p0:p1] - a)
+    return 0.5 * (s0 + nearest)
 
 
 NO_DAMAGE = CriticalStretch(critical_stretch=math.inf)
@@ -104,7 +116,6 @@ class CriticalStretchLaw(DamageLaw):
         n = len(bonds.offsets) - 1
         self.point_s0 = criterion.point_threshold(n, global_ids)
         self.family_s0_min = family_minimum(bonds, self.point_s0)
-        self._inv_length = bonds.inv_length
         self._proposed = np.zeros(bonds.n_bonds, dtype=np.uint8)
         self._count = 0
 
@@ -121,8 +132,8 @@ class CriticalStretchLaw(DamageLaw):
         b = self.bonds
         self._count = int(
             break_trial(
-                self.x, state.u, b.offsets, b.bond_j, self._inv_length, state.intact,
-                self.point_s0, self._proposed,
+                self.x, state.u, b.offsets, b.bond_j, state.intact, self.point_s0,
+                self._proposed,
             )
         )  # fmt: skip
         return self._count

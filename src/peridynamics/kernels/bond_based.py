@@ -33,222 +33,255 @@ _hot = njit(parallel=True, fastmath=True, error_model="numpy", cache=True)
 _exact = njit(parallel=True, fastmath=False, cache=True)
 
 
+#: bonds of points whose filter threshold is infinite never break; the filter works with
+#: this finite stand-in so that (r / L - threshold) stays finite (fast-math assumes it)
+_NEVER = 1.0e300
+#: the filter's threshold is lowered by this fraction: it must let through every bond the
+#: exact test breaks, whatever the rounding of the vectorised stretch
+_FILTER_MARGIN = 1.0e-12
+
+
 @njit(inline="always")
-def _family_1d(i, x, u, offsets, bond_j, inv_length, stiffness, intact):
+def _filter(s0_min_i):
+    """Per-point filter level on r/L: bonds above it get the exact breaking test."""
+    return (1.0 + min(s0_min_i, _NEVER)) * (1.0 - _FILTER_MARGIN)
+
+
+@njit(inline="always")
+def _family_1d(i, x, u, offsets, bond_j, stiffness, intact, level):
+    x0, u0 = x[i, 0], u[i, 0]
     f0 = 0.0
-    smax = 0.0
+    over = 0.0
     for k in range(offsets[i], offsets[i + 1]):
-        j = bond_j[k]
-        e0 = (x[j, 0] - x[i, 0]) + (u[j, 0] - u[i, 0])
+        q = np.uint64(k)  # unsigned: no negative-index wraparound, plain vector loads
+        j = np.uint64(bond_j[q])
+        d0 = x[j, 0] - x0
+        e0 = d0 + (u[j, 0] - u0)
+        inv_l = 1.0 / np.abs(d0)
         r = np.abs(e0)
-        m = intact[k]
-        g = stiffness[k] * m * (inv_length[k] - 1.0 / r)  # = c V mu s / r
+        m = np.float64(intact[q])
+        g = stiffness[q] * m * (inv_l - 1.0 / r)  # = c V mu s / r
         f0 += g * e0
-        smax = max(smax, (r * inv_length[k] - 1.0) * m)
-    return f0, smax
+        t = (r * inv_l - level) * m
+        over += t + np.abs(t)  # > 0 iff some intact bond is above the filter level
+    return f0, over
 
 
 @njit(inline="always")
-def _family_2d(i, x, u, offsets, bond_j, inv_length, stiffness, intact):
+def _family_2d(i, x, u, offsets, bond_j, stiffness, intact, level):
     x0, x1, u0, u1 = x[i, 0], x[i, 1], u[i, 0], u[i, 1]
     f0 = 0.0
     f1 = 0.0
-    smax = 0.0
+    over = 0.0
     for k in range(offsets[i], offsets[i + 1]):
-        j = bond_j[k]
-        e0 = (x[j, 0] - x0) + (u[j, 0] - u0)
-        e1 = (x[j, 1] - x1) + (u[j, 1] - u1)
+        q = np.uint64(k)
+        j = np.uint64(bond_j[q])
+        d0 = x[j, 0] - x0
+        d1 = x[j, 1] - x1
+        e0 = d0 + (u[j, 0] - u0)
+        e1 = d1 + (u[j, 1] - u1)
+        inv_l = 1.0 / np.sqrt(d0 * d0 + d1 * d1)
         r = np.sqrt(e0 * e0 + e1 * e1)
-        m = intact[k]
-        g = stiffness[k] * m * (inv_length[k] - 1.0 / r)  # = c V mu s / r
+        m = np.float64(intact[q])
+        g = stiffness[q] * m * (inv_l - 1.0 / r)
         f0 += g * e0
         f1 += g * e1
-        smax = max(smax, (r * inv_length[k] - 1.0) * m)
-    return f0, f1, smax
+        t = (r * inv_l - level) * m
+        over += t + np.abs(t)
+    return f0, f1, over
 
 
 @njit(inline="always")
-def _family_3d(i, x, u, offsets, bond_j, inv_length, stiffness, intact):
+def _family_3d(i, x, u, offsets, bond_j, stiffness, intact, level):
     x0, x1, x2 = x[i, 0], x[i, 1], x[i, 2]
     u0, u1, u2 = u[i, 0], u[i, 1], u[i, 2]
     f0 = 0.0
     f1 = 0.0
     f2 = 0.0
-    smax = 0.0
+    over = 0.0
     for k in range(offsets[i], offsets[i + 1]):
-        j = bond_j[k]
-        e0 = (x[j, 0] - x0) + (u[j, 0] - u0)
-        e1 = (x[j, 1] - x1) + (u[j, 1] - u1)
-        e2 = (x[j, 2] - x2) + (u[j, 2] - u2)
+        q = np.uint64(k)
+        j = np.uint64(bond_j[q])
+        d0 = x[j, 0] - x0
+        d1 = x[j, 1] - x1
+        d2 = x[j, 2] - x2
+        e0 = d0 + (u[j, 0] - u0)
+        e1 = d1 + (u[j, 1] - u1)
+        e2 = d2 + (u[j, 2] - u2)
+        inv_l = 1.0 / np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
         r = np.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
-        m = intact[k]
-        g = stiffness[k] * m * (inv_length[k] - 1.0 / r)  # = c V mu s / r
+        m = np.float64(intact[q])
+        g = stiffness[q] * m * (inv_l - 1.0 / r)
         f0 += g * e0
         f1 += g * e1
         f2 += g * e2
-        smax = max(smax, (r * inv_length[k] - 1.0) * m)
-    return f0, f1, f2, smax
+        t = (r * inv_l - level) * m
+        over += t + np.abs(t)
+    return f0, f1, f2, over
 
 
 @njit(inline="always")
-def _reaches_threshold(i, k, x, u, bond_j, inv_length, s0):
-    """True when intact-or-not bond ``k`` of point ``i`` has a stretch of at least
-    (s0_i + s0_j) / 2. The bond vector is a sum of differences, exactly antisymmetric,
-    so point ``j`` takes the same decision for its copy of the bond."""
-    d = x.shape[1]
-    j = bond_j[k]
+def _stretch_of(i, j, x, u):
+    """Stretch of bond (i, j): |xi + eta| / |xi| - 1 with xi = x_j - x_i. The vectors are
+    sums of differences, exactly antisymmetric, so (j, i) gets the same bits."""
     r2 = 0.0
-    for c in range(d):
-        e = (x[j, c] - x[i, c]) + (u[j, c] - u[i, c])
+    l2 = 0.0
+    for c in range(x.shape[1]):
+        d = x[j, c] - x[i, c]
+        e = d + (u[j, c] - u[i, c])
+        l2 += d * d
         r2 += e * e
-    s = np.sqrt(r2) * inv_length[k] - 1.0
-    return s >= 0.5 * (s0[i] + s0[j])
+    return np.sqrt(r2) * (1.0 / np.sqrt(l2)) - 1.0
 
 
-@njit(inline="always")
-def _break_family(i, x, u, offsets, bond_j, inv_length, intact, s0):
+@njit(fastmath=False)
+def _break_family(i, x, u, offsets, bond_j, intact, s0):
     """Break the bonds of point ``i`` whose stretch reaches (s0_i + s0_j) / 2.
 
-    A scalar loop (never vectorised) so that point ``i`` and point ``j`` take the same
+    Not inlined and compiled without fast-math: a scalar loop whose every decision has
+    the same bits as :func:`break_trial`'s, so point ``i`` and point ``j`` take the same
     decision for the same bond. Returns the number of bonds broken.
     """
     broken = 0
     for k in range(offsets[i], offsets[i + 1]):
-        if intact[k] and _reaches_threshold(i, k, x, u, bond_j, inv_length, s0):
+        j = bond_j[k]
+        if intact[k] and _stretch_of(i, j, x, u) >= 0.5 * (s0[i] + s0[j]):
             intact[k] = 0
             broken += 1
     return broken
 
 
 @_hot
-def force_1d(
-    x, u, offsets, bond_j, inv_length, stiffness, intact, s0, s0_min, force, smax_out, nbroken
-):
+def force_1d(x, u, offsets, bond_j, stiffness, intact, s0, s0_min, force, nbroken):
     """1-D bond force density (N/m^3) with bond breaking; see the module docstring.
 
     Parameters
     ----------
     x, u : (n, 1) reference positions and displacements (m).
-    offsets : (n + 1,) CSR offsets; bond_j, inv_length (1/|xi|, 1/m), stiffness,
-        intact : (n_bonds,).
+    offsets : (n + 1,) CSR offsets; bond_j (int32), stiffness (float64), intact (uint8):
+        (n_bonds,). Bond lengths are recomputed from ``x`` (nothing else is read per bond).
     s0 : (n,) point critical stretch (``inf`` = never fails).
     s0_min : (n,) smallest bond critical stretch in each family (a cheap filter).
-    force : (n, 1) output force density; smax_out : (n,) output largest tensile stretch
-        of an intact bond (0 when none is stretched); nbroken : (n,) int64 scratch output,
-        bonds broken per point by this call.
+    force : (n, 1) output force density; nbroken : (n,) int64 scratch output, bonds
+        broken per point by this call.
 
     Returns
     -------
     int : number of directed bonds broken by this call.
+
+    Notes
+    -----
+    The family loop vectorises: unsigned indices, no branch, and instead of the largest
+    stretch (a max reduction LLVM does not vectorise here) a sum of positive parts that
+    is > 0 exactly when some intact bond is above the filter level; only those points
+    run the exact breaking pass. :func:`largest_stretch` gives the largest stretch.
     """
     n = offsets.shape[0] - 1  # points that own a family (ghosts, if any, follow)
     for i in prange(n):
-        f0, smax = _family_1d(i, x, u, offsets, bond_j, inv_length, stiffness, intact)
+        level = _filter(s0_min[i])
+        f0, over = _family_1d(i, x, u, offsets, bond_j, stiffness, intact, level)
         nbroken[i] = 0
-        if smax >= s0_min[i]:
-            nb = _break_family(i, x, u, offsets, bond_j, inv_length, intact, s0)
+        if over > 0.0:
+            nb = _break_family(i, x, u, offsets, bond_j, intact, s0)
             if nb > 0:
                 nbroken[i] = nb
-                f0, smax = _family_1d(i, x, u, offsets, bond_j, inv_length, stiffness, intact)
+                f0, over = _family_1d(i, x, u, offsets, bond_j, stiffness, intact, level)
         force[i, 0] = f0
-        smax_out[i] = smax
     return nbroken.sum()
 
 
 @_hot
-def force_2d(
-    x, u, offsets, bond_j, inv_length, stiffness, intact, s0, s0_min, force, smax_out, nbroken
-):
+def force_2d(x, u, offsets, bond_j, stiffness, intact, s0, s0_min, force, nbroken):
     """2-D bond force density (N/m^3) with bond breaking; arguments as :func:`force_1d`."""
-    n = offsets.shape[0] - 1  # points that own a family (ghosts, if any, follow)
+    n = offsets.shape[0] - 1
     for i in prange(n):
-        f0, f1, smax = _family_2d(i, x, u, offsets, bond_j, inv_length, stiffness, intact)
+        level = _filter(s0_min[i])
+        f0, f1, over = _family_2d(i, x, u, offsets, bond_j, stiffness, intact, level)
         nbroken[i] = 0
-        if smax >= s0_min[i]:
-            nb = _break_family(i, x, u, offsets, bond_j, inv_length, intact, s0)
+        if over > 0.0:
+            nb = _break_family(i, x, u, offsets, bond_j, intact, s0)
             if nb > 0:
                 nbroken[i] = nb
-                f0, f1, smax = _family_2d(i, x, u, offsets, bond_j, inv_length, stiffness, intact)
+                f0, f1, over = _family_2d(i, x, u, offsets, bond_j, stiffness, intact, level)
         force[i, 0] = f0
         force[i, 1] = f1
-        smax_out[i] = smax
     return nbroken.sum()
 
 
 @_hot
-def force_3d(
-    x, u, offsets, bond_j, inv_length, stiffness, intact, s0, s0_min, force, smax_out, nbroken
-):
+def force_3d(x, u, offsets, bond_j, stiffness, intact, s0, s0_min, force, nbroken):
     """3-D bond force density (N/m^3) with bond breaking; arguments as :func:`force_1d`."""
-    n = offsets.shape[0] - 1  # points that own a family (ghosts, if any, follow)
+    n = offsets.shape[0] - 1
     for i in prange(n):
-        f0, f1, f2, smax = _family_3d(i, x, u, offsets, bond_j, inv_length, stiffness, intact)
+        level = _filter(s0_min[i])
+        f0, f1, f2, over = _family_3d(i, x, u, offsets, bond_j, stiffness, intact, level)
         nbroken[i] = 0
-        if smax >= s0_min[i]:
-            nb = _break_family(i, x, u, offsets, bond_j, inv_length, intact, s0)
+        if over > 0.0:
+            nb = _break_family(i, x, u, offsets, bond_j, intact, s0)
             if nb > 0:
                 nbroken[i] = nb
-                f0, f1, f2, smax = _family_3d(
-                    i, x, u, offsets, bond_j, inv_length, stiffness, intact
-                )
+                f0, f1, f2, over = _family_3d(i, x, u, offsets, bond_j, stiffness, intact, level)
         force[i, 0] = f0
         force[i, 1] = f1
         force[i, 2] = f2
-        smax_out[i] = smax
     return nbroken.sum()
 
 
 @njit(inline="always")
-def _family_2d_sed(i, x, u, offsets, bond_j, inv_length, stiffness, intact, k0l, tensile):
+def _family_2d_sed(i, x, u, offsets, bond_j, stiffness, intact, level, k0l, tensile):
     """:func:`_family_2d` plus the strain energy density with the initial stiffness,
     W_i = sum_k k0l_k mu_k s_k^2 with k0l = stiffness0 |xi| / 4 (only s > 0 if
     ``tensile``)."""
     x0, x1, u0, u1 = x[i, 0], x[i, 1], u[i, 0], u[i, 1]
     f0 = 0.0
     f1 = 0.0
-    smax = 0.0
+    over = 0.0
     w = 0.0
     for k in range(offsets[i], offsets[i + 1]):
-        j = bond_j[k]
-        e0 = (x[j, 0] - x0) + (u[j, 0] - u0)
-        e1 = (x[j, 1] - x1) + (u[j, 1] - u1)
+        q = np.uint64(k)
+        j = np.uint64(bond_j[q])
+        d0 = x[j, 0] - x0
+        d1 = x[j, 1] - x1
+        e0 = d0 + (u[j, 0] - u0)
+        e1 = d1 + (u[j, 1] - u1)
+        inv_l = 1.0 / np.sqrt(d0 * d0 + d1 * d1)
         r = np.sqrt(e0 * e0 + e1 * e1)
-        m = intact[k]
-        g = stiffness[k] * m * (inv_length[k] - 1.0 / r)  # = c V mu s / r
+        m = np.float64(intact[q])
+        g = stiffness[q] * m * (inv_l - 1.0 / r)
         f0 += g * e0
         f1 += g * e1
-        s = r * inv_length[k] - 1.0
-        smax = max(smax, s * m)
+        s = r * inv_l - 1.0
+        t = (r * inv_l - level) * m
+        over += t + np.abs(t)
         if tensile and s <= 0.0:
             continue
-        w += k0l[k] * m * s * s
-    return f0, f1, smax, w
+        w += k0l[q] * m * s * s
+    return f0, f1, over, w
 
 
 @_hot
 def force_sed_2d(
-    x, u, offsets, bond_j, inv_length, stiffness, intact, s0, s0_min, force, smax_out, nbroken,
-    k0l, tensile, energy,
-):  # fmt: skip
+    x, u, offsets, bond_j, stiffness, intact, s0, s0_min, force, nbroken, k0l, tensile, energy
+):
     """:func:`force_2d` that also fills ``energy`` (n,) with the SED of SED-PD (2021), eq. 22
     from the initial stiffness (``k0l`` = stiffness0 |xi| / 4, (n_bonds,)), in the same
     pass over the bonds: the softening update then needs no bond loop of its own."""
-    n = offsets.shape[0] - 1  # points that own a family (ghosts, if any, follow)
+    n = offsets.shape[0] - 1
     for i in prange(n):
-        f0, f1, smax, w = _family_2d_sed(
-            i, x, u, offsets, bond_j, inv_length, stiffness, intact, k0l, tensile
+        level = _filter(s0_min[i])
+        f0, f1, over, w = _family_2d_sed(
+            i, x, u, offsets, bond_j, stiffness, intact, level, k0l, tensile
         )
         nbroken[i] = 0
-        if smax >= s0_min[i]:
-            nb = _break_family(i, x, u, offsets, bond_j, inv_length, intact, s0)
+        if over > 0.0:
+            nb = _break_family(i, x, u, offsets, bond_j, intact, s0)
             if nb > 0:
                 nbroken[i] = nb
-                f0, f1, smax, w = _family_2d_sed(
-                    i, x, u, offsets, bond_j, inv_length, stiffness, intact, k0l, tensile
+                f0, f1, over, w = _family_2d_sed(
+                    i, x, u, offsets, bond_j, stiffness, intact, level, k0l, tensile
                 )
         force[i, 0] = f0
         force[i, 1] = f1
-        smax_out[i] = smax
         energy[i] = w
     return nbroken.sum()
 
@@ -257,21 +290,47 @@ FORCE_KERNELS = {1: force_1d, 2: force_2d, 3: force_3d}
 
 
 @_exact
-def bond_stretch(x, u, offsets, bond_j, length, out):
-    """Stretch of every directed bond, shape (n_bonds,)."""
+def bond_stretch(x, u, offsets, bond_j, out):
+    """Stretch of every directed bond, shape (n_bonds,); |xi| recomputed from ``x``."""
     n, d = offsets.shape[0] - 1, x.shape[1]
     for i in prange(n):
         for k in range(offsets[i], offsets[i + 1]):
             j = bond_j[k]
             r2 = 0.0
+            l2 = 0.0
             for c in range(d):
-                e = (x[j, c] - x[i, c]) + (u[j, c] - u[i, c])
+                dd = x[j, c] - x[i, c]
+                e = dd + (u[j, c] - u[i, c])
+                l2 += dd * dd
                 r2 += e * e
-            out[k] = (np.sqrt(r2) - length[k]) / length[k]
+            length = np.sqrt(l2)
+            out[k] = (np.sqrt(r2) - length) / length
+
+
+@njit(inline="always")
+def _length(i, j, x):
+    """|x_j - x_i| (m), the same bits as the bond list's ``bond_length``."""
+    l2 = 0.0
+    for c in range(x.shape[1]):
+        d = x[j, c] - x[i, c]
+        l2 += d * d
+    return np.sqrt(l2)
 
 
 @_exact
-def strain_energy_density(x, u, offsets, bond_j, length, stiffness, intact, out):
+def largest_stretch(x, u, offsets, bond_j, intact, out):
+    """Largest stretch of an intact bond per point, 0 where none is stretched, (n,)."""
+    n = offsets.shape[0] - 1
+    for i in prange(n):
+        smax = 0.0
+        for k in range(offsets[i], offsets[i + 1]):
+            if intact[k]:
+                smax = max(smax, _stretch_of(i, bond_j[k], x, u))
+        out[i] = smax
+
+
+@_exact
+def strain_energy_density(x, u, offsets, bond_j, stiffness, intact, out):
     """Point strain-energy density W_i = 1/4 sum_k stiffness_k mu_k s_k^2 |xi_k| (J/m^3)."""
     n, d = offsets.shape[0] - 1, x.shape[1]
     for i in prange(n):
@@ -279,11 +338,15 @@ def strain_energy_density(x, u, offsets, bond_j, length, stiffness, intact, out)
         for k in range(offsets[i], offsets[i + 1]):
             j = bond_j[k]
             r2 = 0.0
+            l2 = 0.0
             for c in range(d):
-                e = (x[j, c] - x[i, c]) + (u[j, c] - u[i, c])
+                dd = x[j, c] - x[i, c]
+                e = dd + (u[j, c] - u[i, c])
+                l2 += dd * dd
                 r2 += e * e
-            s = (np.sqrt(r2) - length[k]) / length[k]
-            w += stiffness[k] * intact[k] * s * s * length[k]
+            length = np.sqrt(l2)
+            s = (np.sqrt(r2) - length) / length
+            w += stiffness[k] * intact[k] * s * s * length
         out[i] = 0.25 * w
 
 
@@ -326,18 +389,18 @@ def damage(offsets, bond_volume, intact, out):
 
 
 @_exact
-def stiffness_bound_per_point(offsets, length, stiffness, out):
+def stiffness_bound_per_point(x, offsets, bond_j, stiffness, out):
     """K_i = sum_k stiffness_k / |xi_k| (N/m^4), the Silling & Askari (2005) bound."""
     n = offsets.shape[0] - 1
     for i in prange(n):
         acc = 0.0
         for k in range(offsets[i], offsets[i + 1]):
-            acc += stiffness[k] / length[k]
+            acc += stiffness[k] / _length(i, bond_j[k], x)
         out[i] = acc
 
 
 @_exact
-def break_trial(x, u, offsets, bond_j, inv_length, intact, s0, proposed):
+def break_trial(x, u, offsets, bond_j, intact, s0, proposed):
     """Critical-stretch trial: ``proposed[k] = 1`` for every intact bond whose stretch
     reaches (s0_i + s0_j) / 2, else 0; ``intact`` is not changed. Returns the number of
     directed bonds proposed. The stretch is computed as in the force kernels'
@@ -347,18 +410,19 @@ def break_trial(x, u, offsets, bond_j, inv_length, intact, s0, proposed):
     for i in prange(n):
         for k in range(offsets[i], offsets[i + 1]):
             proposed[k] = 0
-            if intact[k] and _reaches_threshold(i, k, x, u, bond_j, inv_length, s0):
+            j = bond_j[k]
+            if intact[k] and _stretch_of(i, j, x, u) >= 0.5 * (s0[i] + s0[j]):
                 proposed[k] = 1
                 count += 1
     return count
 
 
 @_exact
-def stable_time_step_per_point(offsets, length, stiffness, density, out):
+def stable_time_step_per_point(x, offsets, bond_j, stiffness, density, out):
     """Silling & Askari (2005) bound dt_i = sqrt(2 rho_i / sum_k stiffness_k / |xi_k|) (s)."""
     n = offsets.shape[0] - 1
     for i in prange(n):
         acc = 0.0
         for k in range(offsets[i], offsets[i + 1]):
-            acc += stiffness[k] / length[k]
+            acc += stiffness[k] / _length(i, bond_j[k], x)
         out[i] = np.sqrt(2.0 * density[i] / acc) if acc > 0 else np.inf

@@ -135,12 +135,21 @@ class BondBasedMaterial:
     def bond_stiffness(
         self, cloud: PointCloud, bonds: Bonds, corrected: bool = True
     ) -> NDArray[np.float64]:
-        """stiffness_k = c(|xi_k|) * beta_k V_j * lambda_k (N/m^3 per unit stretch)."""
-        c = self.micromodulus(
-            bonds.bond_length, cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
-        )
-        k = c * bonds.bond_volume
-        return k * bonds.bond_correction if corrected else k
+        """stiffness_k = c(|xi_k|) * beta_k V_j * lambda_k (N/m^3 per unit stretch), shape
+        (n_bonds,); made range by range, so lengths and volumes the bond list does not
+        hold are not kept."""
+        from peridynamics.bonds.bonds import setup_chunk_bonds
+        from peridynamics.bonds.search import bond_chunks
+
+        out = np.empty(bonds.n_bonds)
+        for a, b in bond_chunks(bonds.offsets, setup_chunk_bonds(cloud.dim)):
+            c = self.micromodulus(
+                bonds.bond_range("bond_length", a, b), cloud.dim, bonds.horizon,
+                cloud.cross_section, cloud.plane,
+            )  # fmt: skip
+            k = c * bonds.bond_range("bond_volume", a, b)
+            out[a:b] = k * bonds.bond_range("bond_correction", a, b) if corrected else k
+        return out
 
     def _cross_factor(self, dim: int, cross_section: float) -> float:
         return {1: cross_section, 2: cross_section, 3: 1.0}[dim]

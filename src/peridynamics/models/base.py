@@ -102,9 +102,16 @@ class ForceModel(ABC):
 
     @abstractmethod
     def force(self, state: State) -> None:
-        """Fill ``state.force`` (n, dim) with the internal force density (N/m^3) and
-        ``state.max_stretch`` (n,) with the largest tensile stretch of an intact bond of
-        each point, from ``state.u`` and ``state.intact``. Pure: never breaks a bond."""
+        """Fill ``state.force`` (n, dim) with the internal force density (N/m^3) from
+        ``state.u`` and ``state.intact`` (and, for most families, ``state.max_stretch``
+        (n,) with the largest tensile stretch of an intact bond of each point; see
+        :meth:`update_max_stretch`). Pure: never breaks a bond."""
+
+    def update_max_stretch(self, state: State) -> None:  # noqa: B027 - optional hook
+        """Make ``state.max_stretch`` (n,) the largest stretch of an intact bond of each
+        point at ``state.u``. Default: nothing, the force pass fills it; a model whose
+        force pass does not (PMB: its family loop vectorises without the max) computes it
+        here. Solvers call this before they read ``state.max_stretch``."""
 
     @abstractmethod
     def energy_density(self, state: State) -> NDArray[np.float64]:
@@ -139,7 +146,7 @@ class ForceModel(ABC):
 
         b = self.bonds
         out = np.empty(b.n_bonds)
-        bond_based.bond_stretch(self.cloud.x, state.u, b.offsets, b.bond_j, b.bond_length, out)
+        bond_based.bond_stretch(self.cloud.x, state.u, b.offsets, b.bond_j, out)
         return out
 
     def tangent(self, state: State) -> sp.csr_matrix | None:

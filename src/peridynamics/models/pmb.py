@@ -41,9 +41,11 @@ class PMBForceModel(ForceModel):
 
     Attributes
     ----------
-    stiffness : (n_bonds,) c(|xi|) beta V_j lambda (N/m^6 m^3): what the kernel reads;
-        SED softening rescales it in place.
-    inv_length : (n_bonds,) 1/|xi| (1/m).
+    stiffness : (n_bonds,) c(|xi|) beta V_j lambda (N/m^6 m^3): with the neighbour index
+        and the intact flag the only per-bond data the force pass reads (|xi| is
+        recomputed from the positions); SED softening rescales it in place.
+    inv_length : (n_bonds,) 1/|xi| (1/m), made on first use (the NumPy-level tangent and
+        stress maps read it; the kernels do not).
     """
 
     name = "pmb"
@@ -72,21 +74,34 @@ class PMBForceModel(ForceModel):
             bonds = bonds.with_correction(factors)
         self.bonds = bonds
         self.stiffness = material.bond_stiffness(cloud, bonds)
-        self.inv_length = bonds.inv_length
         self._kernel = bond_based.FORCE_KERNELS[cloud.dim]
         n = len(bonds.offsets) - 1
         self._never = np.full(n, np.inf)  # no threshold is ever reached: the pure pass
         self._broken_scratch = np.zeros(n, dtype=np.int64)
 
+    @property
+    def inv_length(self) -> NDArray[np.float64]:
+        """1/|xi| (1/m), shape (n_bonds,) (made and kept by the bond list on first use)."""
+        return self.bonds.inv_length
+
     # -- forces -------------------------------------------------------------------------
     def force(self, state: State) -> None:
-        """Bond force density (N/m^3) into ``state.force``; never breaks a bond."""
+        """Bond force density (N/m^3) into ``state.force``; never breaks a bond. The
+        largest stretch is not tracked here: :meth:`update_max_stretch`."""
         b = self.bonds
         self._kernel(
-            self.cloud.x, state.u, b.offsets, b.bond_j, self.inv_length, self.stiffness,
-            state.intact, self._never, self._never, state.force, state.max_stretch,
-            self._broken_scratch,
+            self.cloud.x, state.u, b.offsets, b.bond_j, self.stiffness, state.intact,
+            self._never, self._never, state.force, self._broken_scratch,
         )  # fmt: skip
+
+    def update_max_stretch(self, state: State) -> None:
+        """``state.max_stretch`` (n,): the largest stretch of an intact bond of each point
+        (0 where none is stretched); the force pass does not track it (its family loop
+        vectorises without that max), the solvers' checks call this."""
+        b = self.bonds
+        bond_based.largest_stretch(
+            self.cloud.x, state.u, b.offsets, b.bond_j, state.intact, state.max_stretch
+        )
 
     def force_and_break(
         self, state: State, point_s0: NDArray[np.float64], family_s0_min: NDArray[np.float64]
@@ -97,9 +112,8 @@ class PMBForceModel(ForceModel):
         b = self.bonds
         return int(
             self._kernel(
-                self.cloud.x, state.u, b.offsets, b.bond_j, self.inv_length, self.stiffness,
-                state.intact, point_s0, family_s0_min, state.force, state.max_stretch,
-                self._broken_scratch,
+                self.cloud.x, state.u, b.offsets, b.bond_j, self.stiffness, state.intact,
+                point_s0, family_s0_min, state.force, self._broken_scratch,
             )
         )  # fmt: skip
 
@@ -117,9 +131,9 @@ class PMBForceModel(ForceModel):
         b = self.bonds
         return int(
             bond_based.force_sed_2d(
-                self.cloud.x, state.u, b.offsets, b.bond_j, self.inv_length, self.stiffness,
-                state.intact, point_s0, family_s0_min, state.force, state.max_stretch,
-                self._broken_scratch, k0l, tensile, energy,
+                self.cloud.x, state.u, b.offsets, b.bond_j, self.stiffness, state.intact,
+                point_s0, family_s0_min, state.force, self._broken_scratch, k0l, tensile,
+                energy,
             )
         )  # fmt: skip
 
@@ -129,9 +143,8 @@ class PMBForceModel(ForceModel):
         b = self.bonds
         out = np.empty(len(b.offsets) - 1)
         bond_based.strain_energy_density(
-            self.cloud.x, state.u, b.offsets, b.bond_j, b.bond_length, self.stiffness,
-            state.intact, out,
-        )  # fmt: skip
+            self.cloud.x, state.u, b.offsets, b.bond_j, self.stiffness, state.intact, out
+        )
         return out
 
     def stiffness_bound(self) -> NDArray[np.float64]:
@@ -139,7 +152,7 @@ class PMBForceModel(ForceModel):
         gives dt_i = sqrt(2 rho / K_i)."""
         b = self.bonds
         out = np.empty(len(b.offsets) - 1)
-        bond_based.stiffness_bound_per_point(b.offsets, b.bond_length, self.stiffness, out)
+        bond_based.stiffness_bound_per_point(self.cloud.x, b.offsets, b.bond_j, self.stiffness, out)
         return out
 
     def tangent(self, state: State) -> sp.csr_matrix:

@@ -97,6 +97,9 @@ class PMBSofteningForceModel(PMBForceModel):
             )
         )  # fmt: skip
 
+    def update_max_stretch(self, state: State) -> None:
+        """Nothing: the softening force pass fills ``state.max_stretch`` itself."""
+
     def force(self, state: State) -> None:
         """Force density (N/m^3) into ``state.force`` with the trial history
         max(kappa, s); ``state.max_stretch`` gets the largest tensile stretch of a bond

@@ -109,6 +109,7 @@ class HybridSolver:
         own, s.intact = s.intact, self._first_intact
         try:
             result = self.first.step(s)
+            self.first.model.force_model.update_max_stretch(s)  # the first model's bonds
         finally:
             self._first_intact, s.intact = s.intact, own
         if self.rule.should_switch(s, self.first.model, self.second.model):
