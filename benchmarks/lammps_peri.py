@@ -150,9 +150,43 @@ def time_package(
     ]
 
 
+_OLD_SNIPPET = """
+import json, sys, time
+import numpy as np
+from peridynamics.bench import _model
+from peridynamics.solvers import ExplicitSolver
+dim, n, steps, rounds = (int(a) for a in sys.argv[1:5])
+model = _model(dim, n)
+solver = ExplicitSolver(model)
+state = solver.init()
+state.v[:] = np.random.default_rng(0).normal(scale=1e-3, size=state.v.shape)
+solver.run(state, 2)
+out = []
+for _ in range(rounds):
+    t0 = time.perf_counter()
+    solver.run(state, steps)
+    out.append((time.perf_counter() - t0) / steps)
+print(json.dumps({"s_per_step": out, "bonds": model.bonds.n_bonds}))
+"""
+
+
+def time_other_tree(
+    src: Path, dim: int, n: int, steps: int, rounds: int, meter: LoadMeter,
+    quiet: tuple[float, float],
+) -> list[float]:  # fmt: skip
+    """Seconds per step of the package in another source tree (``--old-src``), in a
+    child process that starts once the machine is quiet; its rounds are not re-timed
+    (``meter`` is not used: the child's own threads would read as other load)."""
+    wait_quiet(*quiet)
+    env = dict(os.environ, PYTHONPATH=str(src.resolve()))
+    args = [str(dim), str(n), str(steps), str(rounds)]
+    out = subprocess.check_output([sys.executable, "-c", _OLD_SNIPPET, *args], env=env, text=True)
+    return [float(t) for t in json.loads(out.strip().splitlines()[-1])["s_per_step"]]
+
+
 def run_case(
     cmd: list[str], env: dict, dim: int, n: int, steps: int, lmp_steps: int, rounds: int,
-    configs: list[str], quiet: tuple[float, float],
+    configs: list[str], quiet: tuple[float, float], old_src: Path | None = None,
 ) -> dict:  # fmt: skip
     from peridynamics.bench import _model
     from peridynamics.solvers import ExplicitSolver
@@ -197,6 +231,12 @@ def run_case(
         )
         lmp_results[cfg] = r
     pkg += time_package(solver, state, steps, rounds, meter, quiet)
+    old: dict = {}
+    if old_src is not None:  # the same lattice with another source tree, in this run
+        times = time_other_tree(old_src, dim, n, steps, rounds, meter, quiet)
+        ob, om = best_median(times)
+        old = {"src": str(old_src), "s_per_step": times, "rate_best": nb / ob,
+               "rate_median": nb / om}  # fmt: skip
     best, med = best_median(pkg)
     package = {
         "s_per_step": pkg,
@@ -212,6 +252,11 @@ def run_case(
         }
         for cfg, r in lmp_results.items()
     }
+    if old:
+        ratios["package / other tree"] = {
+            "best": package["rate_best"] / old["rate_best"],
+            "median": package["rate_median"] / old["rate_median"],
+        }
     return {
         "dim": dim,
         "n_side": n,
@@ -223,6 +268,7 @@ def run_case(
         "setup_s": setup_s,
         "package": package,
         "lammps": lmp_results,
+        "other_tree": old,
         "ratios": ratios,
         "peak_rss_gib_python": peak_rss_gib(),
         **meter.summary(),
@@ -247,6 +293,10 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--lmp")
     p.add_argument("--mpiexec")
     p.add_argument("--json", type=Path)
+    p.add_argument(
+        "--old-src", type=Path, help="also time the package step of this source tree "
+        "(e.g. a worktree of an older commit's src/) on the same lattice in this run",
+    )  # fmt: skip
     a = p.parse_args(argv)
     cmd, env = find_lammps(a.lmp, a.mpiexec)
     from numba import get_num_threads
@@ -267,7 +317,7 @@ def main(argv: list[str] | None = None) -> int:
         d, s = (int(v) for v in spec.split(":"))
         c = run_case(
             cmd, env, d, s, a.steps, a.lammps_steps, a.rounds, a.configs.split(","),
-            (a.quiet_wait, a.quiet_threshold),
+            (a.quiet_wait, a.quiet_threshold), a.old_src,
         )  # fmt: skip
         cases.append(c)
         print(
@@ -277,6 +327,11 @@ def main(argv: list[str] | None = None) -> int:
         )
         pk = c["package"]
         print(f"  package step       best {pk['rate_best']:.3e}  median {pk['rate_median']:.3e} /s")
+        if c["other_tree"]:
+            o = c["other_tree"]
+            print(
+                f"  other tree step    best {o['rate_best']:.3e}  median {o['rate_median']:.3e} /s"
+            )
         for cfg, r in c["lammps"].items():
             print(
                 f"  LAMMPS {cfg:11s} best {r['rate_best']:.3e}  median {r['rate_median']:.3e} /s"

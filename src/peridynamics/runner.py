@@ -283,14 +283,45 @@ def build_solver(
     try:
         if isinstance(s, dk.Solver):
             if s.hybrid is not None:
+                if s.precision != "float64":
+                    raise SetupError("solver.precision", "a hybrid run is float64 only")
                 return _hybrid_solver(deck, cloud, model, body, kin, init)
+            if s.precision != "float64":
+                _set_precision(model, s.precision)
             return ExplicitSolver(model, **_solver_options(s, kin, init, s.time_step))
         if isinstance(s, dk.StaticSolverSpec):
             return build_static(s, model, kin, init)
         return build_adr(s, model, kin, init)
+    except SetupError:
+        raise
     except ValueError as exc:
         key = "solver.time_step" if isinstance(s, dk.Solver) else "solver"
         raise SetupError(key, str(exc)) from None
+
+
+def _set_precision(model: Model, precision: str) -> None:
+    """``solver.precision: float32``: the PMB force pass with critical-stretch damage in
+    float32 (:meth:`PMBForceModel.set_precision`); other models are refused by name."""
+    from peridynamics.damage.critical_stretch import CriticalStretchLaw
+    from peridynamics.models.pmb import PMBForceModel
+
+    fm = model.force_model
+    why = ""
+    if not isinstance(fm, PMBForceModel) or type(fm) is not PMBForceModel:
+        why = f"material.model {getattr(fm, 'name', type(fm).__name__)!r} (or bodies)"
+    elif not isinstance(model.damage_law, CriticalStretchLaw):
+        why = "this damage law (only damage.critical_stretch / fracture_energy)"
+    elif model.softening is not None:
+        why = "damage.sed_softening"
+    elif model.viscosity is not None:
+        why = "material.viscosity"
+    if why:
+        raise SetupError(
+            "solver.precision",
+            f"float32 is available for the PMB model with critical-stretch damage, not for "
+            f"{why}; remove solver.precision or set it to float64",
+        )
+    fm.set_precision(precision)
 
 
 def build_static(s: Any, model: Model, kin: list, init: list) -> Solver:

@@ -755,6 +755,7 @@ class Solver(Strict):
     max_stretch: PosFloat = 1.0
     check_every: Annotated[int, Field(gt=0), _Num] = 10
     damping: NonNegFloat = 0.0  # mass-proportional damping coefficient (1/s)
+    precision: Literal["float64", "float32"] = "float64"
 
     @model_validator(mode="after")
     def _length(self) -> Solver:

@@ -78,6 +78,44 @@ class PMBForceModel(ForceModel):
         n = len(bonds.offsets) - 1
         self._never = np.full(n, np.inf)  # no threshold is ever reached: the pure pass
         self._broken_scratch = np.zeros(n, dtype=np.int64)
+        self.precision = "float64"
+        self._f32: dict[str, NDArray] = {}
+
+    def set_precision(self, precision: str) -> None:
+        """``"float32"``: the force pass runs in float32 with the cancellation-free
+        stretch (:mod:`peridynamics.kernels.bond_based_f32`) and the stiffness is kept
+        in float32 (4 bytes per bond instead of 8; the diagnostics then use those
+        values); the State stays float64 (time integration, damage). Irreversible."""
+        if precision == self.precision:
+            return
+        if precision != "float32":
+            raise ValueError(f"precision {precision!r}: use float64 or float32")
+        x = self.cloud.x
+        self.stiffness = self.stiffness.astype(np.float32)
+        self._f32 = {
+            "x": np.ascontiguousarray(x - x.mean(axis=0), dtype=np.float32),
+            "u": np.empty(x.shape, dtype=np.float32),
+            "force": np.empty(x.shape, dtype=np.float32),
+            "never": np.full(len(x), np.inf, dtype=np.float32),
+        }
+        self.precision = precision
+
+    def _force_f32(
+        self, state: State, point_s0: NDArray[np.float64], family_s0_min: NDArray[np.float64]
+    ) -> int:
+        from peridynamics.kernels.bond_based_f32 import force_f32
+
+        w, b = self._f32, self.bonds
+        np.copyto(w["u"], state.u, casting="same_kind")
+        never = point_s0 is self._never
+        s0 = w["never"] if never else point_s0.astype(np.float32)
+        s0_min = w["never"] if never else family_s0_min.astype(np.float32)
+        n = force_f32(
+            w["x"], w["u"], b.offsets, b.bond_j, self.stiffness, state.intact, s0, s0_min,
+            w["force"], self._broken_scratch,
+        )  # fmt: skip
+        state.force[...] = w["force"]
+        return int(n)
 
     @property
     def inv_length(self) -> NDArray[np.float64]:
@@ -88,6 +126,9 @@ class PMBForceModel(ForceModel):
     def force(self, state: State) -> None:
         """Bond force density (N/m^3) into ``state.force``; never breaks a bond. The
         largest stretch is not tracked here: :meth:`update_max_stretch`."""
+        if self.precision == "float32":
+            self._force_f32(state, self._never, self._never)
+            return
         b = self.bonds
         self._kernel(
             self.cloud.x, state.u, b.offsets, b.bond_j, self.stiffness, state.intact,
@@ -109,6 +150,8 @@ class PMBForceModel(ForceModel):
         """Explicit fast path: the critical-stretch trial, its commit and :meth:`force` in
         one pass over the bonds (the same bits as the three calls in turn). Bonds whose
         stretch reaches (s0_i + s0_j)/2 break for good; returns the number broken."""
+        if self.precision == "float32":
+            return self._force_f32(state, point_s0, family_s0_min)
         b = self.bonds
         return int(
             self._kernel(
