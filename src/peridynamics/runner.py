@@ -307,7 +307,7 @@ def _set_precision(model: Model, precision: str) -> None:
 
     fm = model.force_model
     why = ""
-    if not isinstance(fm, PMBForceModel) or type(fm) is not PMBForceModel:
+    if type(fm) is not PMBForceModel:
         why = f"material.model {getattr(fm, 'name', type(fm).__name__)!r} (or bodies)"
     elif not isinstance(model.damage_law, CriticalStretchLaw):
         why = "this damage law (only damage.critical_stretch / fracture_energy)"
@@ -321,6 +321,7 @@ def _set_precision(model: Model, precision: str) -> None:
             f"float32 is available for the PMB model with critical-stretch damage, not for "
             f"{why}; remove solver.precision or set it to float64",
         )
+    assert isinstance(fm, PMBForceModel)
     fm.set_precision(precision)
 
 
