@@ -450,7 +450,14 @@ class Model:
                 interface_intact = np.concatenate([f.bonds.bond_intact for f in fm.interfaces])
             return fm.point_damage(intact, interface_intact)
         out = np.empty(self.n_points)
-        bond_based.damage(self.bonds.offsets, self.bonds.bond_volume, intact, out)
+        b = self.bonds
+        if "bond_volume" in b.held or b.x is None or b.point_volume is None:
+            bond_based.damage(b.offsets, b.bond_volume, intact, out)
+        else:  # derived in the kernel: the bond list keeps no partial volumes for it
+            bond_based.damage_derived(
+                b.x, b.offsets, b.bond_j, b.point_volume, b.horizon, b.spacing,
+                bond_based.PARTIAL_VOLUME_CODES[b.partial_volume], intact, out,
+            )  # fmt: skip
         return out
 
     def section_stress(self, u: NDArray, intact: NDArray[np.uint8], position: float) -> float:

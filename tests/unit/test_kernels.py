@@ -202,3 +202,40 @@ def test_damage_model_respects_no_fail_points():
     assert np.all(intact[touches] == 1)
     s = reference.stretch(cloud.x, u, b.bond_i, b.bond_j, b.bond_length)
     assert np.array_equal(intact[~touches] == 0, s[~touches] >= 1e-6)
+
+
+@pytest.mark.parametrize("rule", ["truncated", "extended", "none"])
+@pytest.mark.parametrize("dim", [1, 2, 3])
+def test_damage_from_derived_volumes_is_bitwise_the_stored_one(dim, rule):
+    cloud, _, _, _, _ = setup(dim, seed=5)
+    b = build_bonds(cloud, 3.015 * cloud.spacing, partial_volume=rule)
+    intact = (np.random.default_rng(6).random(b.n_bonds) > 0.3).astype(np.uint8)
+    phi, phi_derived = np.empty(b.n_points), np.empty(b.n_points)
+    bond_based.damage_derived(
+        cloud.x, b.offsets, b.bond_j, cloud.volume, b.horizon, cloud.spacing,
+        bond_based.PARTIAL_VOLUME_CODES[rule], intact, phi_derived,
+    )  # fmt: skip
+    assert "bond_volume" not in b.held
+    bond_based.damage(b.offsets, b.bond_volume, intact, phi)
+    assert np.array_equal(phi, phi_derived) and phi.max() > 0.1
+
+
+@pytest.mark.parametrize("dim", [1, 2, 3])
+def test_derived_bond_arrays_equal_the_one_shot_construction(dim):
+    """Lengths, vectors, volumes, owners derived on demand (and by range) == NumPy."""
+    cloud, b, _, _, _ = setup(dim, seed=8)
+    assert b.held == ()  # built lean: 5 bytes per directed bond
+    assert b.nbytes == 5 * b.n_bonds
+    i = np.repeat(np.arange(b.n_points, dtype=np.int32), np.diff(b.offsets))
+    xi = cloud.x[b.bond_j] - cloud.x[i]
+    length = np.sqrt(np.sum([xi[:, c] ** 2 for c in range(dim)], axis=0))  # c = 0, 1, 2
+    a, z = b.n_bonds // 3, 2 * b.n_bonds // 3 + 5
+    assert np.array_equal(b.bond_range("bond_i", a, z), i[a:z])
+    assert np.array_equal(b.bond_range("bond_length", a, z), length[a:z])
+    assert np.array_equal(b.bond_i, i) and np.array_equal(b.bond_xi, xi)
+    assert np.array_equal(b.bond_length, length)
+    from peridynamics.bonds.partial_volume import partial_volume_factor
+
+    beta = partial_volume_factor(length, b.horizon, cloud.spacing, "truncated")
+    assert np.array_equal(b.bond_volume, beta * cloud.volume[b.bond_j])
+    assert set(b.held) >= {"bond_i", "bond_xi", "bond_length", "bond_volume"}

@@ -28,6 +28,16 @@ SETUP_CHUNK_BYTES = 256 * 2**20
 CELL_SEARCH_MIN_POINTS = 30_000
 
 
+def bond_norm(xi: NDArray[np.float64]) -> NDArray[np.float64]:
+    """|xi| per row, shape (n,): the squares summed component by component in order,
+    ((xi_0^2 + xi_1^2) + xi_2^2), the order the kernels use when they recompute |xi|
+    from the positions (``np.einsum`` pairs components differently in 3-D)."""
+    sq = xi[:, 0] * xi[:, 0]
+    for c in range(1, xi.shape[1]):
+        sq += xi[:, c] * xi[:, c]
+    return np.sqrt(sq)
+
+
 def setup_chunk_bonds(dim: int, bytes_per_bond: int = 0) -> int:
     """Bonds per range of the set-up work: :data:`SETUP_CHUNK_BYTES` over the transient
     bytes of one bond (``bytes_per_bond``; by default two gathered positions and about a
@@ -176,7 +186,7 @@ class Bonds:
         if name == "bond_xi":
             return x[self.bond_j[a:b]] - x[self.bond_range("bond_i", a, b)]
         xi = self.bond_range("bond_xi", a, b)
-        length = np.sqrt(np.einsum("ij,ij->i", xi, xi))
+        length = bond_norm(xi)
         if name == "bond_length":
             return length
         if name == "bond_volume":
@@ -310,7 +320,7 @@ def build_bonds(
     keep: NDArray[np.bool_] | None = None
     for a, b in bond_chunks(offsets, setup_chunk_bonds(cloud.dim)):  # bounded transients
         xi = x[bond_j[a:b]] - x[bond_i[a:b]]
-        length = np.sqrt(np.einsum("ij,ij->i", xi, xi))
+        length = bond_norm(xi)
         beta = partial_volume_factor(length, horizon, dx, partial_volume)
         if not np.all(beta > 0):  # zero-weight bonds (rare: only at the search rim)
             if keep is None:

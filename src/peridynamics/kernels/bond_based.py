@@ -388,6 +388,42 @@ def damage(offsets, bond_volume, intact, out):
         out[i] = lost / tot if tot > 0 else 0.0
 
 
+#: partial-volume rules by number, for :func:`damage_derived`
+PARTIAL_VOLUME_CODES = {"none": 0, "truncated": 1, "extended": 2}
+
+
+@njit(inline="always")
+def _partial_volume(length, horizon, dx, rule):
+    """beta(|xi|) of :func:`peridynamics.bonds.partial_volume.partial_volume_factor`,
+    the same operations in the same order (the same bits)."""
+    h = horizon * (1.0 + 1e-9)
+    if rule == 0:
+        return 1.0 if length <= h else 0.0
+    if rule == 1:
+        beta = min(max((horizon - length) / dx + 0.5, 0.0), 1.0)
+        return beta if length <= h else 0.0
+    beta = min(max((horizon + 0.5 * dx - length) / dx, 0.0), 1.0)
+    return beta if length < (horizon + 0.5 * dx) * (1 - 1e-9) else 0.0
+
+
+@_exact
+def damage_derived(x, offsets, bond_j, point_volume, horizon, dx, rule, intact, out):
+    """:func:`damage` with the partial volumes beta(|xi|) V_j recomputed from ``x`` and
+    the point volumes (``rule``: :data:`PARTIAL_VOLUME_CODES`), so the bond list need not
+    hold them; the same bits as :func:`damage` on the derived ``bond_volume``."""
+    n = offsets.shape[0] - 1
+    for i in prange(n):
+        tot = 0.0
+        lost = 0.0
+        for k in range(offsets[i], offsets[i + 1]):
+            j = bond_j[k]
+            vol = _partial_volume(_length(i, j, x), horizon, dx, rule) * point_volume[j]
+            tot += vol
+            if not intact[k]:
+                lost += vol
+        out[i] = lost / tot if tot > 0 else 0.0
+
+
 @_exact
 def stiffness_bound_per_point(x, offsets, bond_j, stiffness, out):
     """K_i = sum_k stiffness_k / |xi_k| (N/m^4), the Silling & Askari (2005) bound."""
