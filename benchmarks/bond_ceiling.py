@@ -22,6 +22,9 @@ named f32):
                    may not be reordered, so the loop stays scalar (no gathers).
 (a') ``mixflag``   the package's family loop exactly (``_family_2d/3d``): ``mix`` plus
                    the uint8 intact flag and the largest stretch. LLVM keeps it scalar.
+(a'') ``lean``     ``mix`` with |xi| recomputed from the gathered x[j] instead of a
+                   stored 1/|xi| (one more square root and division, one stream less):
+                   the mix of the package's kernel since the lean bond store.
 (b) ``nogather``   ``mix`` with j = i + (k - offsets[i]) + 1 computed, not loaded, and
                    x, u as unit-stride columns: plain vector loads, no ``bond_j``
                    stream; stiffness and 1/L are still streamed per bond.
@@ -365,16 +368,70 @@ _scalar = njit(
     error_model="numpy",
 )  # fmt: skip
 
+
+@_ceil
+def lean_2d(x, u, offsets, bond_j, stiffness, out):
+    """(a) with |xi| recomputed from x (the lean store: no 1/|xi| stream; one more
+    square root and division per bond)."""
+    n = offsets.shape[0] - 1
+    for i in prange(n):
+        x0, x1, u0, u1 = x[i, 0], x[i, 1], u[i, 0], u[i, 1]
+        f0 = 0.0
+        f1 = 0.0
+        for k in range(offsets[i], offsets[i + 1]):
+            q = np.uint64(k)
+            j = np.uint64(bond_j[q])
+            d0 = x[j, 0] - x0
+            d1 = x[j, 1] - x1
+            e0 = d0 + (u[j, 0] - u0)
+            e1 = d1 + (u[j, 1] - u1)
+            r = np.sqrt(e0 * e0 + e1 * e1)
+            g = stiffness[q] * (1.0 / np.sqrt(d0 * d0 + d1 * d1) - 1.0 / r)
+            f0 += g * e0
+            f1 += g * e1
+        out[i, 0] = f0
+        out[i, 1] = f1
+
+
+@_ceil
+def lean_3d(x, u, offsets, bond_j, stiffness, out):
+    """:func:`lean_2d` in 3-D."""
+    n = offsets.shape[0] - 1
+    for i in prange(n):
+        x0, x1, x2 = x[i, 0], x[i, 1], x[i, 2]
+        u0, u1, u2 = u[i, 0], u[i, 1], u[i, 2]
+        f0 = 0.0
+        f1 = 0.0
+        f2 = 0.0
+        for k in range(offsets[i], offsets[i + 1]):
+            q = np.uint64(k)
+            j = np.uint64(bond_j[q])
+            d0 = x[j, 0] - x0
+            d1 = x[j, 1] - x1
+            d2 = x[j, 2] - x2
+            e0 = d0 + (u[j, 0] - u0)
+            e1 = d1 + (u[j, 1] - u1)
+            e2 = d2 + (u[j, 2] - u2)
+            r = np.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+            g = stiffness[q] * (1.0 / np.sqrt(d0 * d0 + d1 * d1 + d2 * d2) - 1.0 / r)
+            f0 += g * e0
+            f1 += g * e1
+            f2 += g * e2
+        out[i, 0] = f0
+        out[i, 1] = f1
+        out[i, 2] = f2
+
+
 KERNELS = {
     2: dict(
         mix=mix_2d, mix_signed=mix_signed_2d, mix_scalar=_scalar(mix_2d.py_func),
-        mixflag=mixflag_2d,
+        mixflag=mixflag_2d, lean=lean_2d,
         nogather=nogather_2d, alu=alu_2d, mix32=mix32_2d,
         mix32_scalar=_scalar(mix32_2d.py_func),
     ),
     3: dict(
         mix=mix_3d, mix_signed=mix_signed_3d, mix_scalar=_scalar(mix_3d.py_func),
-        mixflag=mixflag_3d,
+        mixflag=mixflag_3d, lean=lean_3d,
         nogather=nogather_3d, alu=alu_3d, mix32=mix32_3d,
         mix32_scalar=_scalar(mix32_3d.py_func),
     ),
@@ -386,6 +443,7 @@ LABELS = {
     "mix_signed": "(a) mix, vectorised, signed idx",
     "mix_scalar": "(a) mix, scalar",
     "mixflag": "(a') mix+flag",
+    "lean": "(a'') mix, |xi| from x",
     "nogather": "(b) no gather, vectorised",
     "alu": "(b') alu only",
     "mix32": "(c) mix f32, vectorised",
@@ -478,6 +536,7 @@ def run_case(
         "mixflag": lambda: k["mixflag"](
             x, u, offsets, bond_j, inv_length, stiffness, intact, out, smax
         ),
+        "lean": lambda: k["lean"](x, u, offsets, bond_j, stiffness, out),
         "nogather": lambda: k["nogather"](*cols, offsets, inv_length, stiffness, out),
         "alu": lambda: k["alu"](x, u, offsets, inv_length, stiffness, out),
         "mix32": lambda: k["mix32"](x32, u32, offsets, bond_j, il32, c32, out32),
@@ -492,7 +551,7 @@ def run_case(
     ref = state.force.copy()
     scale = np.abs(ref).max()
     check = {}
-    for key in ("mixflag", "mix", "mix_signed", "mix_scalar"):
+    for key in ("mixflag", "mix", "mix_signed", "mix_scalar", "lean"):
         calls[key]()
         check[f"{key} vs pkg force"] = float(np.abs(out - ref).max() / scale)
     asm = {key: vector_ops(k[key]) for key in k}
@@ -501,9 +560,8 @@ def run_case(
     fresh = njit(parallel=True, fastmath=True, error_model="numpy")(
         bond_based.FORCE_KERNELS[dim].py_func
     )
-    fresh(x[:2], u[:2], offsets[:2] * 0, bond_j[:1], inv_length[:1], stiffness[:1],
-          intact[:1], np.full(1, np.inf), np.full(1, np.inf), out[:1], smax[:1],
-          np.zeros(1, np.int64))  # fmt: skip
+    fresh(x[:2], u[:2], offsets[:2] * 0, bond_j[:1], stiffness[:1], intact[:1],
+          np.full(1, np.inf), np.full(1, np.inf), out[:1], np.zeros(1, np.int64))  # fmt: skip
     asm["pkg_force"] = vector_ops(fresh)
 
     # the package's step as ``peridynamics bench`` times it: ``steps`` steps in one run
@@ -533,13 +591,14 @@ def run_case(
         }
     # the ceiling of the float64 mix: the faster of its vectorised and scalar builds
     ceil_key = max(("mix", "mix_signed", "mix_scalar"), key=lambda q: rows[q]["rate_best"])
+    # and of the lean store's mix (|xi| from x): the package's kernel since issue 14
     ratios = {
         f"{a} / {c}": {
             "best": rows[c]["s_best"] / rows[a]["s_best"],
             "median": rows[c]["s_median"] / rows[a]["s_median"],
         }
         for a in ("pkg_step", "pkg_force")
-        for c in (ceil_key, "mixflag")
+        for c in (ceil_key, "mixflag", "lean")
     }
     return {
         "dim": dim,

@@ -2,7 +2,7 @@
 
 Usage::
 
-    python benchmarks/compare_results.py run SRC_DIR OUT_DIR [--only PATTERN]
+    python benchmarks/compare_results.py run SRC_DIR OUT_DIR [--only PATTERN] [--skip PATTERN]
     python benchmarks/compare_results.py compare OUT_A OUT_B
 
 ``run`` executes ``python -m peridynamics run`` for each deck under ``examples/`` with
@@ -23,14 +23,17 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def decks(only: str | None) -> list[Path]:
+def decks(only: str | None, skip: str | None = None) -> list[Path]:
     found = sorted(ROOT.glob("examples/**/*.yaml"))
-    return [d for d in found if only is None or only in str(d)]
+    return [
+        d for d in found
+        if (only is None or only in str(d)) and (skip is None or skip not in str(d))
+    ]  # fmt: skip
 
 
-def run(src: str, out: Path, only: str | None) -> None:
+def run(src: str, out: Path, only: str | None, skip: str | None = None) -> None:
     env = dict(os.environ, PYTHONPATH=str(Path(src).resolve()))
-    for deck in decks(only):
+    for deck in decks(only, skip):
         name = str(deck.relative_to(ROOT / "examples")).replace("/", "__").removesuffix(".yaml")
         t0 = time.perf_counter()
         rc = subprocess.call(
@@ -86,6 +89,7 @@ if __name__ == "__main__":
     cmd = sys.argv[1]
     if cmd == "run":
         only = sys.argv[sys.argv.index("--only") + 1] if "--only" in sys.argv else None
-        run(sys.argv[2], Path(sys.argv[3]), only)
+        skip = sys.argv[sys.argv.index("--skip") + 1] if "--skip" in sys.argv else None
+        run(sys.argv[2], Path(sys.argv[3]), only, skip)
     else:
         sys.exit(compare(Path(sys.argv[2]), Path(sys.argv[3])))

@@ -624,16 +624,28 @@ class BondList(Observer):
         self.model = model
 
     def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
+        from peridynamics.bonds.bonds import setup_chunk_bonds
+        from peridynamics.bonds.search import bond_chunks
+
         b, cloud = self.model.bonds, self.model.cloud
-        half = b.bond_i < b.bond_j
+        parts: dict[str, list[NDArray]] = {k: [] for k in ("i", "j", "length_m", "intact", "ini")}
+        for a, z in bond_chunks(b.offsets, setup_chunk_bonds(cloud.dim)):  # derived by range
+            bi = b.bond_range("bond_i", a, z)
+            half = bi < b.bond_j[a:z]
+            parts["i"].append(bi[half].astype(np.int32))
+            parts["j"].append(b.bond_j[a:z][half].astype(np.int32))
+            parts["length_m"].append(b.bond_range("bond_length", a, z)[half])
+            parts["intact"].append(s.intact[a:z][half])
+            parts["ini"].append(b.bond_intact[a:z][half])
+        joined = {k: np.concatenate(v) if v else np.zeros(0) for k, v in parts.items()}
         path = ctx.out / "bonds.npz"
         np.savez(
             path,
-            i=b.bond_i[half].astype(np.int32),
-            j=b.bond_j[half].astype(np.int32),
-            length_m=b.bond_length[half],
-            intact=s.intact[half],
-            initially_intact=b.bond_intact[half],
+            i=joined["i"].astype(np.int32),
+            j=joined["j"].astype(np.int32),
+            length_m=joined["length_m"].astype(np.float64),
+            intact=joined["intact"].astype(s.intact.dtype),
+            initially_intact=joined["ini"].astype(b.bond_intact.dtype),
             x_m=cloud.x,
             volume_m3=cloud.volume,
             horizon_m=np.float64(b.horizon),
