@@ -44,7 +44,7 @@ def test_fresh_and_cached_kernels_agree_bitwise(dim: int) -> None:
             f,
             np.zeros(cloud.n_points, np.int64),
         )
-        bb.largest_stretch(cloud.x, u, bonds.offsets, bonds.bond_j, intact, smax)
+        bb.largest_stretch(cloud.x, u, bonds.offsets, bonds.bond_j, intact, 0.0, smax)
         out.append((f, smax))
     assert np.array_equal(out[0][0], out[1][0]) and np.array_equal(out[0][1], out[1][1])
     w = []

@@ -42,7 +42,7 @@ def run_force_kernel(dim, cloud, b, k, u, intact, s0, s0_min, force, smax):
     scratch = np.full(cloud.n_points, -7, dtype=np.int64)  # garbage in: must be overwritten
     nb = kernel(cloud.x, u, b.offsets, b.bond_j, k, intact, s0, s0_min, force, scratch)
     assert nb == scratch.sum()
-    bond_based.largest_stretch(cloud.x, u, b.offsets, b.bond_j, intact, smax)
+    bond_based.largest_stretch(cloud.x, u, b.offsets, b.bond_j, intact, 0.0, smax)
     return nb
 
 
@@ -239,3 +239,20 @@ def test_derived_bond_arrays_equal_the_one_shot_construction(dim):
     beta = partial_volume_factor(length, b.horizon, cloud.spacing, "truncated")
     assert np.array_equal(b.bond_volume, beta * cloud.volume[b.bond_j])
     assert set(b.held) >= {"bond_i", "bond_xi", "bond_length", "bond_volume"}
+
+
+@pytest.mark.parametrize("dim", [1, 2, 3])
+def test_largest_stretch_above_a_level_is_exact_there_and_zero_elsewhere(dim):
+    cloud, b, _, u, intact = setup(dim, seed=9)
+    s = reference.stretch(cloud.x, u, b.bond_i, b.bond_j, b.bond_length)
+    s_max = np.maximum(np.maximum.reduceat(np.where(intact == 1, s, NEG), b.offsets[:-1]), 0.0)
+    level = float(np.quantile(s_max, 0.7))
+    out = np.full(b.n_points, np.nan)
+    bond_based.largest_stretch(cloud.x, u, b.offsets, b.bond_j, intact, level, out)
+    above = s_max > level * (1 + 1e-9)
+    assert 0 < above.sum() < b.n_points
+    np.testing.assert_allclose(out[above], s_max[above], rtol=1e-12)
+    below = s_max < level * (1 - 1e-9)
+    assert np.all(out[below] == 0.0)
+    bond_based.largest_stretch(cloud.x, u, b.offsets, b.bond_j, intact, 0.0, out)
+    np.testing.assert_allclose(out, s_max, rtol=1e-12, atol=0)

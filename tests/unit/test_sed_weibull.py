@@ -278,7 +278,7 @@ def test_fused_2d_force_and_energy_equal_the_separate_passes(tensile: bool) -> N
                        np.full(cloud.n_points, 1e300), np.full(cloud.n_points, 1e300), 10,
                        np.zeros(cloud.n_points, np.int64), energy, tensile,
                        np.zeros(cloud.n_points, np.uint8))  # fmt: skip
-        bond_based.largest_stretch(cloud.x, u, b.offsets, b.bond_j, intact, ms)
+        bond_based.largest_stretch(cloud.x, u, b.offsets, b.bond_j, intact, 0.0, ms)
         out[fused] = (n, f, ms, intact, energy)
     (n0, f0, m0, i0, e0), (n1, f1, m1, i1, e1) = out[False], out[True]
     assert n0 == n1 > 0 and np.array_equal(i0, i1)

@@ -294,9 +294,9 @@ class CompositeForceModel(ForceModel):
             f.add_force(self.cloud.x, state.u, intact, state.force, state.max_stretch)
             k += f.n_bonds
 
-    def update_max_stretch(self, state: State) -> None:
+    def update_max_stretch(self, state: State, above: float = 0.0) -> None:
         for m, view in zip(self.models, self.views(state), strict=True):
-            m.update_max_stretch(view)
+            m.update_max_stretch(view, above)
         k = 0
         for f in self.interfaces:
             intact = state["interface_intact"][k : k + f.n_bonds]

@@ -106,7 +106,7 @@ class InterfaceBonds:
         if self.n_bonds == 0:
             return
         b = self.bonds
-        bond_based.largest_stretch(x, u, b.offsets, b.bond_j, intact, self._smax)
+        bond_based.largest_stretch(x, u, b.offsets, b.bond_j, intact, 0.0, self._smax)
         np.maximum(max_stretch, self._smax, out=max_stretch)
 
     def energy_density(

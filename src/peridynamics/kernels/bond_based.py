@@ -317,16 +317,37 @@ def _length(i, j, x):
     return np.sqrt(l2)
 
 
-@_exact
-def largest_stretch(x, u, offsets, bond_j, intact, out):
-    """Largest stretch of an intact bond per point, 0 where none is stretched, (n,)."""
+@njit(fastmath=False)
+def _largest_of_family(i, x, u, offsets, bond_j, intact):
+    """Largest stretch of an intact bond of point ``i`` (0 when none is stretched)."""
+    smax = 0.0
+    for k in range(offsets[i], offsets[i + 1]):
+        if intact[k]:
+            smax = max(smax, _stretch_of(i, bond_j[k], x, u))
+    return smax
+
+
+@_hot
+def largest_stretch(x, u, offsets, bond_j, intact, above, out):
+    """Largest stretch of an intact bond per point, (n,), where it exceeds ``above``;
+    0 elsewhere (``above`` = 0: everywhere a bond is stretched).
+
+    A vectorised pass over each family (the filter of the force kernels: the positive
+    parts of r/|xi| - level, level = 1 + ``above`` lowered by 1e-12) finds the points
+    with such a bond; only they run the exact scalar max. The stability check asks
+    for stretches above its limit (100 %), so it costs one vectorised pass.
+    """
     n = offsets.shape[0] - 1
+    level = (1.0 + max(above, 0.0)) * (1.0 - _FILTER_MARGIN)
+    d = x.shape[1]
     for i in prange(n):
-        smax = 0.0
-        for k in range(offsets[i], offsets[i + 1]):
-            if intact[k]:
-                smax = max(smax, _stretch_of(i, bond_j[k], x, u))
-        out[i] = smax
+        if d == 1:
+            over = _family_1d(i, x, u, offsets, bond_j, intact, intact, level)[1]
+        elif d == 2:
+            over = _family_2d(i, x, u, offsets, bond_j, intact, intact, level)[2]
+        else:
+            over = _family_3d(i, x, u, offsets, bond_j, intact, intact, level)[3]
+        out[i] = _largest_of_family(i, x, u, offsets, bond_j, intact) if over > 0.0 else 0.0
 
 
 @_exact

@@ -61,10 +61,61 @@ def _break_family(i, x, u, offsets, bond_j, intact, s0):
 
 
 @njit(inline="always")
-def _family(i, x, u, offsets, bond_j, stiffness, intact, level):
-    """(f0, f1, f2, over): force of point ``i``'s family (components past ``dim`` are 0)
-    and the filter sum (> 0 iff some intact bond's stretch exceeds ``level``)."""
-    d = x.shape[1]
+def _family_1d(i, x, u, offsets, bond_j, stiffness, intact, level):
+    """Force of point ``i``'s family and the filter sum (> 0 iff some intact bond's
+    stretch exceeds ``level``), 1-D."""
+    f0 = _ZERO
+    over = _ZERO
+    for k in range(offsets[i], offsets[i + 1]):
+        q_k = np.uint64(k)
+        j = np.uint64(bond_j[q_k])
+        a0 = x[j, 0] - x[i, 0]
+        b0 = u[j, 0] - u[i, 0]
+        l2 = a0 * a0
+        q = (_TWO * a0 + b0) * b0
+        length = np.sqrt(l2)
+        r = np.sqrt(l2 + q)
+        s = q / (length * (r + length))
+        m = np.float32(intact[q_k])
+        g = stiffness[q_k] * m * s / r
+        f0 += g * (a0 + b0)
+        t = (s - level) * m
+        over += t + np.abs(t)
+    return f0, over
+
+
+@njit(inline="always")
+def _family_2d(i, x, u, offsets, bond_j, stiffness, intact, level):
+    """Force of point ``i``'s family and the filter sum (> 0 iff some intact bond's
+    stretch exceeds ``level``), 2-D."""
+    f0 = _ZERO
+    f1 = _ZERO
+    over = _ZERO
+    for k in range(offsets[i], offsets[i + 1]):
+        q_k = np.uint64(k)
+        j = np.uint64(bond_j[q_k])
+        a0 = x[j, 0] - x[i, 0]
+        b0 = u[j, 0] - u[i, 0]
+        a1 = x[j, 1] - x[i, 1]
+        b1 = u[j, 1] - u[i, 1]
+        l2 = a0 * a0 + a1 * a1
+        q = (_TWO * a0 + b0) * b0 + (_TWO * a1 + b1) * b1
+        length = np.sqrt(l2)
+        r = np.sqrt(l2 + q)
+        s = q / (length * (r + length))
+        m = np.float32(intact[q_k])
+        g = stiffness[q_k] * m * s / r
+        f0 += g * (a0 + b0)
+        f1 += g * (a1 + b1)
+        t = (s - level) * m
+        over += t + np.abs(t)
+    return f0, f1, over
+
+
+@njit(inline="always")
+def _family_3d(i, x, u, offsets, bond_j, stiffness, intact, level):
+    """Force of point ``i``'s family and the filter sum (> 0 iff some intact bond's
+    stretch exceeds ``level``), 3-D."""
     f0 = _ZERO
     f1 = _ZERO
     f2 = _ZERO
@@ -74,22 +125,12 @@ def _family(i, x, u, offsets, bond_j, stiffness, intact, level):
         j = np.uint64(bond_j[q_k])
         a0 = x[j, 0] - x[i, 0]
         b0 = u[j, 0] - u[i, 0]
-        l2 = a0 * a0
-        q = (_TWO * a0 + b0) * b0
-        a1 = _ZERO
-        b1 = _ZERO
-        a2 = _ZERO
-        b2 = _ZERO
-        if d > 1:
-            a1 = x[j, 1] - x[i, 1]
-            b1 = u[j, 1] - u[i, 1]
-            l2 += a1 * a1
-            q += (_TWO * a1 + b1) * b1
-        if d > 2:
-            a2 = x[j, 2] - x[i, 2]
-            b2 = u[j, 2] - u[i, 2]
-            l2 += a2 * a2
-            q += (_TWO * a2 + b2) * b2
+        a1 = x[j, 1] - x[i, 1]
+        b1 = u[j, 1] - u[i, 1]
+        a2 = x[j, 2] - x[i, 2]
+        b2 = u[j, 2] - u[i, 2]
+        l2 = a0 * a0 + a1 * a1 + a2 * a2
+        q = (_TWO * a0 + b0) * b0 + (_TWO * a1 + b1) * b1 + (_TWO * a2 + b2) * b2
         length = np.sqrt(l2)
         r = np.sqrt(l2 + q)
         s = q / (length * (r + length))
@@ -104,6 +145,62 @@ def _family(i, x, u, offsets, bond_j, stiffness, intact, level):
 
 
 @_hot
+def force_f32_1d(x, u, offsets, bond_j, stiffness, intact, s0, s0_min, force, nbroken):
+    """1-D float32 bond force density (N/m^3) with bond breaking; see :func:`force_f32`."""
+    n = offsets.shape[0] - 1
+    for i in prange(n):
+        level = min(s0_min[i], _NEVER) * np.float32(1.0 - 1e-6)
+        f0, over = _family_1d(i, x, u, offsets, bond_j, stiffness, intact, level)
+        nbroken[i] = 0
+        if over > _ZERO:
+            nb = _break_family(i, x, u, offsets, bond_j, intact, s0)
+            if nb > 0:
+                nbroken[i] = nb
+                f0, over = _family_1d(i, x, u, offsets, bond_j, stiffness, intact, level)
+        force[i, 0] = f0
+    return nbroken.sum()
+
+
+@_hot
+def force_f32_2d(x, u, offsets, bond_j, stiffness, intact, s0, s0_min, force, nbroken):
+    """2-D float32 bond force density (N/m^3) with bond breaking; see :func:`force_f32`."""
+    n = offsets.shape[0] - 1
+    for i in prange(n):
+        level = min(s0_min[i], _NEVER) * np.float32(1.0 - 1e-6)
+        f0, f1, over = _family_2d(i, x, u, offsets, bond_j, stiffness, intact, level)
+        nbroken[i] = 0
+        if over > _ZERO:
+            nb = _break_family(i, x, u, offsets, bond_j, intact, s0)
+            if nb > 0:
+                nbroken[i] = nb
+                f0, f1, over = _family_2d(i, x, u, offsets, bond_j, stiffness, intact, level)
+        force[i, 0] = f0
+        force[i, 1] = f1
+    return nbroken.sum()
+
+
+@_hot
+def force_f32_3d(x, u, offsets, bond_j, stiffness, intact, s0, s0_min, force, nbroken):
+    """3-D float32 bond force density (N/m^3) with bond breaking; see :func:`force_f32`."""
+    n = offsets.shape[0] - 1
+    for i in prange(n):
+        level = min(s0_min[i], _NEVER) * np.float32(1.0 - 1e-6)
+        f0, f1, f2, over = _family_3d(i, x, u, offsets, bond_j, stiffness, intact, level)
+        nbroken[i] = 0
+        if over > _ZERO:
+            nb = _break_family(i, x, u, offsets, bond_j, intact, s0)
+            if nb > 0:
+                nbroken[i] = nb
+                f0, f1, f2, over = _family_3d(i, x, u, offsets, bond_j, stiffness, intact, level)
+        force[i, 0] = f0
+        force[i, 1] = f1
+        force[i, 2] = f2
+    return nbroken.sum()
+
+
+_KERNELS = {1: force_f32_1d, 2: force_f32_2d, 3: force_f32_3d}
+
+
 def force_f32(x, u, offsets, bond_j, stiffness, intact, s0, s0_min, force, nbroken):
     """Bond force density (N/m^3, float32) with bond breaking, any dimension.
 
@@ -121,20 +218,6 @@ def force_f32(x, u, offsets, bond_j, stiffness, intact, s0, s0_min, force, nbrok
     -------
     int : number of directed bonds broken by this call.
     """
-    n = offsets.shape[0] - 1
-    d = x.shape[1]
-    for i in prange(n):
-        level = min(s0_min[i], _NEVER) * np.float32(1.0 - 1e-6)
-        f0, f1, f2, over = _family(i, x, u, offsets, bond_j, stiffness, intact, level)
-        nbroken[i] = 0
-        if over > _ZERO:
-            nb = _break_family(i, x, u, offsets, bond_j, intact, s0)
-            if nb > 0:
-                nbroken[i] = nb
-                f0, f1, f2, over = _family(i, x, u, offsets, bond_j, stiffness, intact, level)
-        force[i, 0] = f0
-        if d > 1:
-            force[i, 1] = f1
-        if d > 2:
-            force[i, 2] = f2
-    return nbroken.sum()
+    return _KERNELS[x.shape[1]](
+        x, u, offsets, bond_j, stiffness, intact, s0, s0_min, force, nbroken
+    )

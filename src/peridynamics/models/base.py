@@ -107,11 +107,12 @@ class ForceModel(ABC):
         (n,) with the largest tensile stretch of an intact bond of each point; see
         :meth:`update_max_stretch`). Pure: never breaks a bond."""
 
-    def update_max_stretch(self, state: State) -> None:  # noqa: B027 - optional hook
+    def update_max_stretch(self, state: State, above: float = 0.0) -> None:  # noqa: B027
         """Make ``state.max_stretch`` (n,) the largest stretch of an intact bond of each
-        point at ``state.u``. Default: nothing, the force pass fills it; a model whose
-        force pass does not (PMB: its family loop vectorises without the max) computes it
-        here. Solvers call this before they read ``state.max_stretch``."""
+        point at ``state.u``, at least where it exceeds ``above`` (elsewhere it may be
+        0). Default: nothing, the force pass fills it everywhere; a model whose force
+        pass does not (PMB: its family loop vectorises without the max) computes it here.
+        Solvers call this before they read ``state.max_stretch``."""
 
     @abstractmethod
     def energy_density(self, state: State) -> NDArray[np.float64]:

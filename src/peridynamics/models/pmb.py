@@ -135,13 +135,13 @@ class PMBForceModel(ForceModel):
             self._never, self._never, state.force, self._broken_scratch,
         )  # fmt: skip
 
-    def update_max_stretch(self, state: State) -> None:
+    def update_max_stretch(self, state: State, above: float = 0.0) -> None:
         """``state.max_stretch`` (n,): the largest stretch of an intact bond of each point
-        (0 where none is stretched); the force pass does not track it (its family loop
-        vectorises without that max), the solvers' checks call this."""
+        where it exceeds ``above``, 0 elsewhere; the force pass does not track it (its
+        family loop vectorises without that max), the solvers' checks call this."""
         b = self.bonds
         bond_based.largest_stretch(
-            self.cloud.x, state.u, b.offsets, b.bond_j, state.intact, state.max_stretch
+            self.cloud.x, state.u, b.offsets, b.bond_j, state.intact, above, state.max_stretch
         )
 
     def force_and_break(

@@ -97,7 +97,7 @@ class PMBSofteningForceModel(PMBForceModel):
             )
         )  # fmt: skip
 
-    def update_max_stretch(self, state: State) -> None:
+    def update_max_stretch(self, state: State, above: float = 0.0) -> None:
         """Nothing: the softening force pass fills ``state.max_stretch`` itself."""
 
     def force(self, state: State) -> None:

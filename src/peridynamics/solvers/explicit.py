@@ -271,7 +271,7 @@ class ExplicitSolver:
         comm = self.model.comm
         shift = comm.sum_array(s.u.sum(axis=0)) / comm.sum(float(len(s.u)))
         k = int(bond_based.first_bad_point(s.u, s.v, shift, limit))
-        self.model.force_model.update_max_stretch(s)
+        self.model.force_model.update_max_stretch(s, self.max_stretch)
         smax = comm.max(float(s.max_stretch.max()) if s.max_stretch.size else 0.0)
         if k < 0 and smax > self.max_stretch:
             k = int(np.argmax(s.max_stretch))
