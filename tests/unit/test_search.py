@@ -337,7 +337,11 @@ def reference_build(cloud: PointCloud, horizon: float, rule: str) -> dict[str, n
     x, dx = cloud.x, cloud.spacing
     offsets, bond_i, bond_j = oracle_csr(x, search_radius(horizon, dx, rule))  # type: ignore[arg-type]
     xi = x[bond_j] - x[bond_i]
-    length = np.sqrt(np.einsum("ij,ij->i", xi, xi))
+    # squares summed in component order (the kernels' order; einsum pairs x and z first)
+    sq = xi[:, 0] * xi[:, 0]
+    for c in range(1, xi.shape[1]):
+        sq = sq + xi[:, c] * xi[:, c]
+    length = np.sqrt(sq)
     beta = partial_volume_factor(length, horizon, dx, rule)  # type: ignore[arg-type]
     keep = beta > 0
     if not np.all(keep):

@@ -51,21 +51,24 @@ def energy_correction_factors(
         Strain-energy density of the infinite body under uniaxial strain ``strain`` (J/m^3).
     """
     n, dim = x.shape
-    xi, length, owner = bonds.bond_xi, bonds.bond_length, bonds.bond_i
     lam = np.empty((dim, n))
-    w = np.empty(n)
-    for k in range(dim):  # one uniform-strain evaluation per direction
-        w[:] = 0.0  # points without bonds keep 0, as in one bincount over all bonds
-        # ranges of whole rows: each point's sum adds the same terms in the same order
-        for a, b in bond_chunks(bonds.offsets, setup_chunk_bonds(dim)):
+    w = np.zeros((dim, n))  # points without bonds keep 0, as in one bincount over all bonds
+    # ranges of whole rows: each point's sum adds the same terms in the same order; the
+    # bond vectors, lengths and owners are derived per range (the list need not hold them)
+    for a, b in bond_chunks(bonds.offsets, setup_chunk_bonds(dim)):
+        xi = bonds.bond_range("bond_xi", a, b)
+        length = bonds.bond_range("bond_length", a, b)
+        owner = bonds.bond_range("bond_i", a, b)
+        p0, p1 = int(owner[0]), int(owner[-1]) + 1
+        for k in range(dim):  # one uniform-strain evaluation per direction
             # linearised stretch xi.eta/|xi|^2 of u = strain * x_k e_k: exact, so the
             # factors carry neither round-off (small strain) nor geometric nonlinearity
-            s = strain * (xi[a:b, k] / length[a:b]) ** 2
-            p0, p1 = int(owner[a]), int(owner[b - 1]) + 1
-            w[p0:p1] = np.bincount(
-                owner[a:b] - p0, stiffness[a:b] * s * s * length[a:b], minlength=p1 - p0
+            s = strain * (xi[:, k] / length) ** 2
+            w[k, p0:p1] = np.bincount(
+                owner - p0, stiffness[a:b] * s * s * length, minlength=p1 - p0
             )
-        lam[k] = continuum_energy_density / (0.25 * w)
+    for k in range(dim):
+        lam[k] = continuum_energy_density / (0.25 * w[k])
     return bond_factors_from_point_ratios(bonds, lam)
 
 
@@ -78,8 +81,8 @@ def bond_factors_from_point_ratios(
     out = np.empty(bonds.n_bonds)
     dim = ratios.shape[0]
     for a, b in bond_chunks(bonds.offsets, setup_chunk_bonds(dim)):  # bounded transients
-        bi, bj = bonds.bond_i[a:b], bonds.bond_j[a:b]
-        n_hat = bonds.bond_xi[a:b] / bonds.bond_length[a:b, None]
+        bi, bj = bonds.bond_range("bond_i", a, b), bonds.bond_j[a:b]
+        n_hat = bonds.bond_range("bond_xi", a, b) / bonds.bond_range("bond_length", a, b)[:, None]
         acc = np.zeros(b - a)
         for k in range(dim):  # loop over the (<= 3) directions only
             g_k = 0.5 * (ratios[k][bi] + ratios[k][bj])
