@@ -10,7 +10,7 @@ forms ``xi + eta`` first but uses
     |xi + eta|^2 - |xi|^2 = 2 xi . eta + eta . eta  =: q,
     s = q / (|xi| (|xi + eta| + |xi|)),
 
-where every term is of the size of the result (no cancellation; Kahan's
+where every term is of the size of the result (no cancellation: the usual
 rearrangement of a difference of square roots). The force is ``stiffness * mu * s *
 (xi + eta) / |xi + eta|`` as in :mod:`peridynamics.kernels.bond_based`, whose float64
 kernels are the oracle. Bond (i, j) and (j, i) see the same q (xi and eta are exact
