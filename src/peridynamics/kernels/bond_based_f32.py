@@ -31,8 +31,8 @@ _HALF = np.float32(0.5)
 
 
 @njit(inline="always")
-def _bond(i, j, x, u):
-    """(e, r, s) of bond (i, j): deformed vector components, |xi + eta|, stretch."""
+def _stretch(i, j, x, u):
+    """Cancellation-free stretch of bond (i, j), float32, components summed in order."""
     d = x.shape[1]
     q = _ZERO
     l2 = _ZERO
@@ -43,7 +43,7 @@ def _bond(i, j, x, u):
         q += (_TWO * xi + eta) * eta
     length = np.sqrt(l2)
     r = np.sqrt(l2 + q)
-    return r, q / (length * (r + length))
+    return q / (length * (r + length))
 
 
 @njit(fastmath=False)
@@ -52,11 +52,9 @@ def _break_family(i, x, u, offsets, bond_j, intact, s0):
     broken = 0
     for k in range(offsets[i], offsets[i + 1]):
         j = bond_j[k]
-        if intact[k]:
-            s = _bond(i, j, x, u)[1]
-            if s >= _HALF * (s0[i] + s0[j]):
-                intact[k] = 0
-                broken += 1
+        if intact[k] and _stretch(i, j, x, u) >= _HALF * (s0[i] + s0[j]):
+            intact[k] = 0
+            broken += 1
     return broken
 
 
