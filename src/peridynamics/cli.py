@@ -258,24 +258,40 @@ def cmd_run(args: argparse.Namespace) -> int:
         _err(f"--out: {str(out)!r} exists and is not a folder")
         return EXIT_INVALID
     every = args.checkpoint_every if args.resume else (args.checkpoint_every or 0)
+    comm = _run_comm()
+    if comm is False:
+        return EXIT_INVALID
+    rank = 0 if comm is None else int(comm.Get_rank())
+    quiet = args.quiet or rank != 0  # under mpiexec rank 0 speaks
     try:
         problem = _size_problem(deck, args.allow_large)
         if problem is None and isinstance(deck.geometry, MeshGeometry):
             problem = _size_problem(deck, args.allow_large, build_cloud(deck).n_points)
         if problem:
-            return _refuse(problem)
-        sim = Simulation.from_deck(deck)
+            return _refuse(problem) if rank == 0 else EXIT_INVALID
+        sim = Simulation.from_deck(deck, comm)
         problem = _built_problem(sim, args.allow_large)
         if problem:
             return _refuse(problem)
-        if not args.quiet:
+        if not quiet:
+            where = ""
+            n_points, n_bonds = sim.cloud.n_points, sim.model.bonds.n_bonds
+            if sim.session is not None:
+                where = f" on {sim.session.comm.size} MPI ranks"
+                n_points = sim.session.global_cloud.n_points
+                n_bonds = sim._global_bonds()
             print(
-                f"{deck.name}: {sim.cloud.n_points} points, {sim.model.bonds.n_bonds} bonds, "
-                f"{sim.solver.describe()} -> {out}"
+                f"{deck.name}: {n_points} points, {n_bonds} bonds, "
+                f"{sim.solver.describe()}{where} -> {out}"
             )
-        summary = sim.run(out, quiet=args.quiet, checkpoint_every=every, resume=bool(args.resume))
+        elif sim.session is not None:
+            sim._global_bonds()  # collective: every rank takes part
+        summary = sim.run(out, quiet=quiet, checkpoint_every=every, resume=bool(args.resume))
+        if rank != 0:
+            return EXIT_OK
     except SetupError as exc:
-        _err(f"error: {exc}" if exc.path.startswith("--") else f"invalid deck:\n  {exc}")
+        if rank == 0:
+            _err(f"error: {exc}" if exc.path.startswith("--") else f"invalid deck:\n  {exc}")
         return EXIT_INVALID
     except OSError as exc:  # no checkpoint, unwritable output folder, ...
         _err(f"error: {exc}")
@@ -283,9 +299,12 @@ def cmd_run(args: argparse.Namespace) -> int:
     except MemoryError as exc:
         return _out_of_memory(exc)
     except SimulationUnstable as exc:
-        _err(f"error: {exc}\nwrote {out / 'last_good.vtu'} and {out / 'summary.json'}")
+        if rank == 0:
+            _err(f"error: {exc}\nwrote {out / 'last_good.vtu'} and {out / 'summary.json'}")
         return EXIT_UNSTABLE
     except RunInterrupted as exc:
+        if rank != 0:
+            return EXIT_INTERRUPTED
         _err(
             f"interrupted after step {exc.step} of {exc.total} (t = {exc.t:.6g} s); wrote "
             f'{out / "summary.json"} (status "interrupted")'
@@ -308,110 +327,28 @@ def cmd_run(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _run_comm() -> Any:
+    """The MPI communicator of ``mpiexec -n N peridynamics run`` (N > 1), ``None`` for a
+    plain run, ``False`` after printing why an MPI launch cannot work. Each rank gets
+    its share of the machine's cores as Numba threads (unless NUMBA_NUM_THREADS is set)."""
+    from peridynamics.parallel.launch import LaunchError, mpi_comm, share_cores
+
+    try:
+        comm = mpi_comm()
+    except LaunchError as exc:
+        _err(f"error: {exc}")
+        return False
+    share_cores(comm)
+    return comm
+
+
 def cmd_ensemble(args: argparse.Namespace) -> int:
     """Run N Weibull realisations of a deck (seeds seed0 .. seed0 + N - 1) and report the
-    spread of the peak stress and of the damaged area (``ensemble.json``)."""
-    import json
+    spread of the peak stress and of the damaged area (``ensemble.json``); under
+    ``mpiexec -n R`` the realisations are spread over the R ranks (``peridynamics.ensemble``)."""
+    from peridynamics.ensemble import cmd_ensemble as run_ensemble
 
-    import numpy as np
-
-    from peridynamics.io.deck import DeckError, load_deck
-    from peridynamics.runner import SetupError, Simulation
-    from peridynamics.solvers import SimulationUnstable
-
-    if args.n < 1:
-        _err("--n must be >= 1")
-        return EXIT_INVALID
-    from peridynamics.runner import RunInterrupted
-
-    deck = _load(args)
-    if deck is None:
-        return EXIT_INVALID
-    if deck.damage.weibull is None:
-        _err("ensemble: the deck has no damage.weibull section (nothing to vary)")
-        return EXIT_INVALID
-    problem = _size_problem(deck, args.allow_large)
-    if problem:
-        return _refuse(problem)
-    out = Path(args.out or Path("results") / f"{deck.name}_ensemble")
-    runs: list[dict[str, Any]] = []
-    for k in range(args.n):
-        seed = args.seed0 + k
-        try:
-            member = load_deck(args.deck, [*(args.set or []), f"damage.weibull.seed={seed}"])
-            sim = Simulation.from_deck(member)
-            problem = _built_problem(sim, args.allow_large)
-            if problem:
-                return _refuse(problem)
-            summary = sim.run(out / f"seed_{seed}", quiet=True)
-        except (DeckError, SetupError) as exc:
-            _err(f"invalid deck:\n  {exc}")
-            return EXIT_INVALID
-        except MemoryError as exc:
-            return _out_of_memory(exc)
-        except SimulationUnstable as exc:
-            _err(f"error (seed {seed}): {exc}")
-            return EXIT_UNSTABLE
-        except RunInterrupted as exc:
-            _err(f"interrupted in seed {seed} after step {exc.step}; {len(runs)} run(s) done")
-            return EXIT_INTERRUPTED
-        r = summary["results"]
-        runs.append(
-            {
-                "seed": seed,
-                "peak_stress_Pa": r.get("peak_stress_Pa"),
-                "damaged_area_fraction": r["damaged_area_fraction"],
-                "wall_s": summary["timing"]["wall_s"],
-            }
-        )
-        if not args.quiet:
-            peak = r.get("peak_stress_Pa")
-            print(
-                f"seed {seed}: peak stress "
-                f"{'n/a (no output.stress_strain)' if peak is None else f'{peak:.4g} Pa'}, "
-                f"damaged area fraction {r['damaged_area_fraction']:.4f}"
-            )
-
-    def spread(key: str) -> dict[str, float | None] | None:
-        vals = np.array([r[key] for r in runs if r[key] is not None], dtype=float)
-        if vals.size == 0:
-            return None
-        many = vals.size > 1  # a sample standard deviation needs two runs
-        std = float(vals.std(ddof=1)) if many else None
-        return {
-            "mean": float(vals.mean()),
-            "std": std,
-            "min": float(vals.min()),
-            "max": float(vals.max()),
-            "cv": std / float(vals.mean()) if std is not None and vals.mean() else None,
-        }
-
-    report = {
-        "deck": str(args.deck),
-        "n": args.n,
-        "seeds": [r["seed"] for r in runs],
-        "peak_stress_Pa": spread("peak_stress_Pa"),
-        "damaged_area_fraction": spread("damaged_area_fraction"),
-        "runs": runs,
-    }
-    out.mkdir(parents=True, exist_ok=True)
-    (out / "ensemble.json").write_text(json.dumps(report, indent=2))
-    if not args.quiet:
-        for key, label, unit, fmt in (
-            ("peak_stress_Pa", "peak stress", " Pa", ".4g"),
-            ("damaged_area_fraction", "damaged area fraction", "", ".4f"),
-        ):
-            sp = report[key]
-            if sp is None:
-                continue
-            std = "n/a (n = 1)" if sp["std"] is None else f"{sp['std']:{fmt}}{unit}"
-            cv = "n/a" if sp["cv"] is None else f"{sp['cv']:.3g}"
-            print(
-                f"{label}: mean {sp['mean']:{fmt}}{unit}, std {std}, cv {cv}, "
-                f"range {sp['min']:{fmt}} .. {sp['max']:{fmt}}{unit}"
-            )
-        print(f"wrote {out / 'ensemble.json'}")
-    return EXIT_OK
+    return run_ensemble(args)
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
@@ -758,7 +695,12 @@ def build_parser() -> argparse.ArgumentParser:
     large_arg(r)
     r.set_defaults(func=cmd_run)
 
-    en = sub.add_parser("ensemble", help="run N Weibull realisations of a deck")
+    en = sub.add_parser(
+        "ensemble",
+        help="run N Weibull realisations of a deck",
+        description="Run N Weibull realisations of a deck; under mpiexec -n R they are "
+        "spread over the R ranks (realisation k on rank k % R).",
+    )
     deck_args(en)
     en.add_argument("--n", type=int, default=5, help="number of realisations")
     en.add_argument("--seed0", type=int, default=0, help="first seed (then +1, +2, ...)")

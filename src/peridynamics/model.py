@@ -8,12 +8,17 @@ that calls their kernels and the communicator. The order of one evaluation
 1. damage: the law's trial and commit (only when the solver commits at this
    evaluation: every step in explicit dynamics, never inside a dynamic-relaxation or
    Newton iteration);
-2. the force model's pre-pass (per-point reductions such as the LPS dilatation; the
-   halo exchange of what the force pass reads goes here in distributed runs);
+2. the force model's pre-pass (per-point reductions such as the LPS dilatation);
 3. the force model's pure force pass;
 4. SED softening levels (committed with the damage), their new bond stiffness acting
    from the next evaluation on;
 5. contact; 6. mass damping; 7. viscous bond forces.
+
+In a run decomposed over MPI ranks the evaluation starts with the halo exchange of
+the displacement, the velocity and any further dof group (rotations) through
+``comm.exchange``; the ghosts of the first layer own their bond families on every
+rank that holds them (:mod:`peridynamics.parallel.local`), so the pre-pass fields they
+need at both ends of a bond are computed there and need no second exchange.
 
 External loads are filled separately by :meth:`Model.external_force`. For PMB with a
 committing critical-stretch law, steps 1 and 3 (and in 2-D the SED energy of step 4)
@@ -43,7 +48,7 @@ from peridynamics.models.base import DamageLaw, ForceModel
 from peridynamics.models.pmb import PMBForceModel
 from peridynamics.models.pmb_softening import PMBSofteningForceModel
 from peridynamics.models.softening import SoftenedStiffness
-from peridynamics.parallel.communicator import SERIAL, Communicator
+from peridynamics.parallel.communicator import Communicator, active_comm
 from peridynamics.state import State
 
 
@@ -98,7 +103,7 @@ class Model:
     softening: SEDSoftening | None = None
     contact: Any = None
     damping: float = 0.0
-    comm: Communicator = SERIAL
+    comm: Communicator = field(default_factory=active_comm)
     rigid: Any = None
     force_model: ForceModel = field(init=False, repr=False)
     damage_law: DamageLaw = field(init=False, repr=False)
@@ -114,7 +119,9 @@ class Model:
         self.bonds = self.force_model.bonds  # with the surface-correction factors
         law_for = getattr(self.damage, "law_for", None)  # several bodies: per-body laws
         self.damage_law = (
-            law_for(self.force_model) if law_for is not None else self.damage.law(c.x, self.bonds)
+            law_for(self.force_model)
+            if law_for is not None
+            else self.damage.law(c.x, self.bonds, c.global_ids)
         )
         bind = getattr(self.damage_law, "bind", None)
         if bind is not None:  # a law that reads the force model (stresses, shape tensors)
@@ -264,6 +271,9 @@ class Model:
         fm, law, sed = self.force_model, self.damage_law, self._sed
         broken = 0
         energy_done = False
+        before = state.bonds_broken
+        if self.comm.size > 1:
+            self.exchange_dofs(state)
         if (
             commit
             and isinstance(fm, PMBForceModel)
@@ -297,7 +307,34 @@ class Model:
         if sed is not None and commit:
             sed.update(state, energy_computed=energy_done)
         self._extras(state)
+        if broken and self.comm.size > 1:  # count the owned families' bonds only
+            broken = self._owned_broken(state, broken)
+            state.bonds_broken = before + broken
         return broken
+
+    def exchange_dofs(self, state: State) -> None:
+        """Halo exchange of what the force pass reads: u, v and further dof groups."""
+        comm = self.comm
+        comm.exchange(state.u)
+        comm.exchange(state.v)
+        for dof in self.force_model.dofs()[1:]:
+            comm.exchange(state[dof.value])
+            comm.exchange(state[dof.rate])
+
+    def _owned_broken(self, state: State, broken: int) -> int:
+        """Bonds of owned points broken by this evaluation (the ghosts of the first layer
+        break theirs too, as their owners do): from the fused pass's per-point counts or
+        the damage law's proposal."""
+        n_own = self.comm.n_owned
+        fm, law = self.force_model, self.damage_law
+        scratch = getattr(fm, "_broken_scratch", None)
+        if isinstance(fm, PMBForceModel) and fm.fused_breaking and scratch is not None:
+            if isinstance(law, CriticalStretchLaw):
+                return int(scratch[:n_own].sum())
+        proposed = getattr(law, "_proposed", None)
+        if proposed is None:
+            raise RuntimeError(f"the damage law {law.name!r} cannot count owned bonds")
+        return int(np.count_nonzero(proposed[: int(self.bonds.offsets[n_own])]))
 
     def _extras(self, state: State) -> None:
         """Contact, mass damping and viscous bond forces, added to ``state.force``."""
@@ -325,10 +362,14 @@ class Model:
     def commit_damage(self, state: State) -> int:
         """Trial and commit of the damage law (and SED levels) at ``state.u``: what a
         static solver does on an accepted load step. Returns the bonds broken."""
+        before = state.bonds_broken
         self.damage_law.trial(state)
         broken = self.damage_law.commit(state)
         if self._sed is not None:
             self._sed.update(state)
+        if broken and self.comm.size > 1:  # count the owned families' bonds only
+            broken = self._owned_broken(state, broken)
+            state.bonds_broken = before + broken
         return broken
 
     def internal_force(
@@ -390,7 +431,8 @@ class Model:
             self.cloud.x, u, v, b.offsets, b.bond_j, self.inv_length, b.bond_volume,
             intact, self._viscous[0], self._viscous[1], f,
         )  # fmt: skip
-        return float(np.sum(self.cloud.volume[:, None] * f * v))
+        own = self.comm.owned
+        return self.comm.sum(float(np.sum(self.cloud.volume[own, None] * f[own] * v[own])))
 
     def external_force(self, t: float, out: NDArray) -> None:
         """Fill ``out`` (n, dim) with the external body-force density at time t (N/m^3)."""
@@ -412,7 +454,9 @@ class Model:
         """Total strain energy sum W_i V_i (J), reduced over ranks."""
         # np.sum, not @: a BLAS dot can wake OpenBLAS threads that then spin against
         # Numba's workers and slow the next force evaluations
-        local = float(np.sum(self.strain_energy_density(u, intact) * self.cloud.volume))
+        own = self.comm.owned
+        w = self.strain_energy_density(u, intact)[own]
+        local = float(np.sum(w * self.cloud.volume[own]))
         return self.comm.sum(local)
 
     def state_energies(self, s: State) -> tuple[float, float]:
@@ -423,20 +467,32 @@ class Model:
             # displacement only, no history (softening bonds): the energy of (u, intact)
             strain = self.strain_energy(s.u, s.intact)
         else:  # further dof groups (rotations) live in the State
-            strain = self.comm.sum(float(np.sum(fm.energy_density(s) * self.cloud.volume)))
+            own = self.comm.owned
+            w = fm.energy_density(s)[own]
+            strain = self.comm.sum(float(np.sum(w * self.cloud.volume[own])))
         kinetic = self.kinetic_energy(s.v)
         if self.rigid is not None:  # free rigid bodies (strikers)
             kinetic += self.rigid.kinetic_energy(s)
         for k, dof in enumerate(groups[1:], start=1):
-            rate = s[dof.rate]
-            local = 0.5 * np.sum(self.inertia(k) * self.cloud.volume * np.sum(rate * rate, axis=1))
+            own = self.comm.owned
+            rate = s[dof.rate][own]
+            mass = (self.inertia(k) * self.cloud.volume)[own]
+            local = 0.5 * np.sum(mass * np.sum(rate * rate, axis=1))
             kinetic += self.comm.sum(float(local))
         return kinetic, strain
 
     def kinetic_energy(self, v: NDArray) -> float:
         """Total kinetic energy 1/2 sum rho_i V_i |v_i|^2 (J), reduced over ranks."""
-        local = float(0.5 * np.sum(self.density * self.cloud.volume * np.sum(v * v, axis=1)))
+        own = self.comm.owned
+        mass = (self.density * self.cloud.volume)[own]
+        local = float(0.5 * np.sum(mass * np.sum(v[own] * v[own], axis=1)))
         return self.comm.sum(local)
+
+    def bond_counts(self, s: State) -> tuple[float, float]:
+        """(directed bonds broken during the run, directed bonds), over ranks: the
+        pre-cracked bonds count as neither."""
+        failed = int(np.count_nonzero(self.bonds.bond_intact)) - int(np.count_nonzero(s.intact))
+        return self.comm.sum(float(failed)), self.comm.sum(float(self.bonds.n_bonds))
 
     def point_damage(
         self, intact: NDArray[np.uint8], interface_intact: NDArray[np.uint8] | None = None

@@ -10,11 +10,13 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import os
 import signal
 import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, replace
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -46,9 +48,14 @@ from peridynamics.io.checkpoint import (
     CHECKPOINT_NAME,
     read_checkpoint,
     read_checkpoint_meta,
-    write_checkpoint,
 )
-from peridynamics.io.observers import Observer, RunContext, new_records, observers_for
+from peridynamics.io.observers import (
+    CrashAtStep,
+    Observer,
+    RunContext,
+    new_records,
+    observers_for,
+)
 from peridynamics.io.observers_frames import VTKFrames
 from peridynamics.io.regions import to_region
 from peridynamics.io.summary import write_summary
@@ -653,11 +660,29 @@ class Simulation:
     model: Model
     solver: Solver
     setup_s: float = 0.0
+    #: a decomposed run (``mpiexec -n N``): the collective side (None when serial)
+    session: Any = None
+    #: a decomposed run: the whole body (``cloud`` is this rank's part)
+    global_cloud: PointCloud | None = None
 
     @classmethod
-    def from_deck(cls, deck: dk.Deck) -> Simulation:
-        """Build geometry -> bonds -> model -> solver. Raises SetupError / DeckError."""
+    def from_deck(cls, deck: dk.Deck, comm: Any = None) -> Simulation:
+        """Build geometry -> bonds -> model -> solver. Raises SetupError / DeckError.
+
+        ``comm``: an mpi4py communicator of more than one rank decomposes the body over
+        its ranks (:mod:`peridynamics.parallel`); every rank calls this."""
         t0 = time.perf_counter()
+        if comm is not None and comm.Get_size() > 1:
+            from peridynamics.parallel.build import build_distributed
+            from peridynamics.parallel.session import Session
+
+            parts = build_distributed(deck, comm)
+            session = Session(parts["communicator"], parts["model"], parts["global_cloud"])
+            return cls(
+                deck, parts["cloud"], parts["model"], parts["solver"],
+                setup_s=time.perf_counter() - t0, session=session,
+                global_cloud=parts["global_cloud"],
+            )  # fmt: skip
         cloud = build_cloud(deck)
         bonds = build_bonds_for(deck, cloud)
         body, kin, init = build_conditions(deck, cloud)
@@ -732,11 +757,13 @@ class Simulation:
         """
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
-        (out / (CHECKPOINT_NAME + ".tmp")).unlink(missing_ok=True)  # left by a crash
+        dist = self.session  # a decomposed run: rank 0 observes, the others serve
+        root = dist is None or dist.root
+        if root:
+            (out / (CHECKPOINT_NAME + ".tmp")).unlink(missing_ok=True)  # left by a crash
         solver = self.solver
         if resume:
-            state, records, fp = read_checkpoint(out)
-            meta = read_checkpoint_meta(out)
+            state, records, meta, fp = self._read_resume(out)
             if fp != self.fingerprint():
                 raise SetupError(
                     "--resume",
@@ -757,7 +784,7 @@ class Simulation:
                 raise SetupError("--resume", str(exc)) from None
             if checkpoint_every is None:  # keep the interval of the original run
                 checkpoint_every = int(records.get("checkpoint_every", 0))
-            if not quiet:
+            if not quiet and root:
                 print(f"resuming from step {state.step} (t = {state.t:.6g} s) in {out}")
         else:
             finished = False
@@ -765,54 +792,138 @@ class Simulation:
             records = new_records(self.deck)
         every = int(checkpoint_every or 0)
         records["checkpoint_every"] = every
-        ctx = RunContext(self.deck, self.model, solver, out, records, self.fingerprint())
+        obs_model: Any = self.model
+        if dist is not None:
+            from peridynamics.parallel.session import GlobalModel
+
+            obs_model = GlobalModel(dist, self._global_bonds())
+        ctx = RunContext(self.deck, obs_model, solver, out, records, self.fingerprint())
+        ctx.session = dist
         ctx.stop = finished  # finished, but the outputs were not written: write them
-        observers = observers_for(self.deck, self.model, isinstance(solver, HybridSolver),
-                                  every)  # fmt: skip
-        for ob in observers:
-            ob.on_start(ctx, state, resume)
+        observers = (
+            observers_for(self.deck, obs_model, isinstance(solver, HybridSolver), every)
+            if root
+            else []
+        )
+        if dist is not None:  # the crash hook of a decomposed run is _crash_hook
+            observers = [ob for ob in observers if not isinstance(ob, CrashAtStep)]
+        total = self._sync(state, 0, False)[1]
+        self._observe(state, ctx, lambda v: [ob.on_start(ctx, v, resume) for ob in observers],
+                      total)  # fmt: skip
         n_total = solver.total_steps()
         t_start = time.perf_counter()
         steps_done_here = 0
         work = 0  # force evaluations: steps, or iterations of a static solver
-        bar = _progress(quiet or not progress, n_total, state.step, self.deck.name)
+        bar = _progress(quiet or not progress or not root, n_total, state.step, self.deck.name)
         error = None
         stop = _StopRequest()
+        stopped = False  # a Ctrl-C on some rank, agreed after a step
+        crash = _crash_hook(dist)
         try:
             with stop, bar:
-                while not solver.done(state) and not ctx.stop and not stop.requested:
+                while not solver.done(state) and not ctx.stop and not stopped:
+                    if dist is None and stop.requested:
+                        break
                     before = state.bonds_broken
                     result = solver.step(state)
-                    result.broken = state.bonds_broken - before
+                    broken, total, stopped = self._sync(
+                        state, state.bonds_broken - before, stop.requested
+                    )
+                    result.broken = broken
                     steps_done_here += 1
                     work += result.iterations
-                    for ob in observers:
-                        ob.on_step(ctx, state, result)
+                    self._observe(state, ctx, partial(_on_step, observers, ctx, result),
+                                  total)  # fmt: skip
+                    if crash is not None and state.step == crash:
+                        os._exit(137)
                     if state.step % 50 == 0 or solver.done(state):
                         bar.update(state.step)
-                if not stop.requested:
+                stopped = stopped or (dist is None and stop.requested)
+                if not stopped:
                     solver.check(state)  # the last steps are checked too
         except SimulationUnstable as exc:
             ctx.status, error = "unstable", str(exc)
             good = exc.last_good or state
-            VTKFrames(self.deck, self.model).frame(ctx, good, name="last_good.vtu")
+            frames = VTKFrames(self.deck, obs_model)
+            self._observe(good, ctx, lambda v: frames.frame(ctx, v, name="last_good.vtu"),
+                          total)  # fmt: skip
             wall = time.perf_counter() - t_start
             self._finish(ctx, state, observers, wall, steps_done_here, work, error)
             raise
         wall = time.perf_counter() - t_start
-        if stop.requested and not (solver.done(state) or ctx.stop):
+        if stopped and not (solver.done(state) or ctx.stop):
             ctx.status = "interrupted"
             summary = self._finish(ctx, state, observers, wall, steps_done_here, work, None)
             checkpoint = None
             if every:  # after _finish: the records then list the frame it wrote
-                checkpoint = write_checkpoint(
-                    out, state, ctx.records, ctx.fingerprint, meta={"finished": False}
-                )
+                checkpoint = self._checkpoint(ctx, state, {"finished": False})
             raise RunInterrupted(state.step, state.t, n_total, checkpoint, summary)
         summary = self._finish(ctx, state, observers, wall, steps_done_here, work, error)
         if every:  # the final state, marked finished: a --resume of it is refused
-            write_checkpoint(out, state, ctx.records, ctx.fingerprint, meta={"finished": True})
+            self._checkpoint(ctx, state, {"finished": True})
         return summary
+
+    # -- the decomposed run's collective steps (no-ops or plain calls when serial) -------
+    def _global_bonds(self) -> int:
+        """Directed bonds of the whole body (owned families of every rank)."""
+        dist = self.session
+        end = int(self.model.bonds.offsets[dist.comm.n_owned])
+        return int(dist.comm.sum(float(end)))
+
+    def _sync(self, state: State, broken: int, stop: bool) -> tuple[int, int, bool]:
+        """(bonds broken by this step, bonds broken in the run, Ctrl-C somewhere) over
+        every rank (one ``Allreduce``)."""
+        if self.session is None:
+            return broken, state.bonds_broken, stop
+        v = self.session.comm.sum_array(
+            np.array([broken, state.bonds_broken, 1.0 if stop else 0.0], dtype=np.float64)
+        )
+        return int(v[0]), int(v[1]), bool(v[2] > 0)
+
+    def _observe(
+        self, state: State, ctx: RunContext, work: Callable[[State], Any], total: int
+    ) -> None:
+        """Run ``work`` (observer hooks) on rank 0 with the whole body's view of
+        ``state`` while the other ranks answer its requests; ``ctx.stop`` is agreed."""
+        dist = self.session
+        if dist is None:
+            work(state)
+            return
+        from peridynamics.parallel.session import GlobalState
+
+        dist.state = state
+        if not dist.root:
+            ctx.stop, failure = dist.serve()
+            if failure:
+                raise RuntimeError(f"rank 0 failed while writing outputs: {failure}")
+            return
+        failure = None
+        try:
+            work(GlobalState(dist, state, total))
+        except BaseException as exc:
+            failure = f"{type(exc).__name__}: {exc}"
+            raise
+        finally:
+            dist.end_step((ctx.stop, failure))
+
+    def _checkpoint(self, ctx: RunContext, state: State, meta: dict[str, Any]) -> Path | None:
+        """A checkpoint of ``state`` (every rank its own part under MPI)."""
+        got: list[Path | None] = [None]
+
+        def work(v: State) -> None:
+            got[0] = ctx.write_checkpoint(v, meta)
+
+        self._observe(state, ctx, work, state.bonds_broken)
+        return got[0]
+
+    def _read_resume(self, out: Path) -> tuple[State, dict[str, Any], dict[str, Any], str]:
+        """(state, records, meta, fingerprint) of the checkpoint to resume."""
+        if self.session is None:
+            state, records, fp = read_checkpoint(out)
+            return state, records, read_checkpoint_meta(out), fp
+        from peridynamics.parallel.checkpoints import read_rank_checkpoint
+
+        return read_rank_checkpoint(self.session, out)
 
     def _finish(
         self,
@@ -824,8 +935,32 @@ class Simulation:
         work: int,
         error: str | None,
     ) -> dict:
-        """final_state.npz, the results every run has, then each observer's."""
-        m = self.model
+        """final_state.npz, the results every run has, then each observer's (rank 0
+        under MPI, the other ranks serving; they return an empty mapping)."""
+        got: dict[str, Any] = {}
+        total = self._sync(s, 0, False)[1]
+        exchange = None
+        if self.session is not None:  # the halo time of the slowest rank
+            exchange = self.session.comm.max(self.session.comm.exchange_s)
+
+        def finish(v: State) -> None:
+            got.update(self._finish_root(ctx, v, observers, wall, steps, work, error, exchange))
+
+        self._observe(s, ctx, finish, total)
+        return got
+
+    def _finish_root(
+        self,
+        ctx: RunContext,
+        s: State,
+        observers: list[Observer],
+        wall: float,
+        steps: int,
+        work: int,
+        error: str | None,
+        exchange_s: float | None = None,
+    ) -> dict:
+        m = ctx.model
         damage = ctx.damage(s)
         extra_fields: dict[str, Any] = {}
         try:  # the per-point random field (Weibull) a run drew, and no-fail points (inf)
@@ -835,25 +970,27 @@ class Simulation:
         for group in m.force_model.dofs()[1:]:  # micropolar: theta (rad), moment (N m/m^3)
             extra_fields[group.value] = s[group.value]
             extra_fields[group.force] = s[group.force]
+        distributed = self.session is not None
         for name in ("interface_intact", "bond_kappa"):  # several bodies, softening bonds
-            if name in s:
+            if name in s and not distributed:
                 extra_fields[name] = s[name]
+        if not distributed:  # per-bond flags stay on their rank under MPI
+            extra_fields["intact"] = s.intact
         np.savez(
             ctx.out / "final_state.npz",
             u=s.u,
             v=s.v,
             damage=damage,
-            intact=s.intact,
             t=s.t,
             step=s.step,
-            x=self.cloud.x,
+            x=m.cloud.x,
             **extra_fields,
         )
         kinetic, strain = m.state_energies(s)
         results: dict[str, Any] = {
-            "n_points": self.cloud.n_points,
+            "n_points": m.cloud.n_points,
             "n_bonds": m.bonds.n_bonds,
-            "spacing_m": self.cloud.spacing,
+            "spacing_m": m.cloud.spacing,
             "horizon_m": m.bonds.horizon,
             **self.solver.summary_fields(s),
             "steps": s.step,
@@ -865,13 +1002,13 @@ class Simulation:
             "strain_energy_J": strain,
             "damaged_area_fraction": float(np.mean(damage >= 0.3)),
         }
-        if self.cloud.grid_fit:  # lengths that were not whole multiples of the spacing
-            results["geometry_fit"] = [f.as_dict() for f in self.cloud.grid_fit]
+        if m.cloud.grid_fit:  # lengths that were not whole multiples of the spacing
+            results["geometry_fit"] = [f.as_dict() for f in m.cloud.grid_fit]
         files: list[str] = []
         for ob in observers:
             files += ob.finalize(ctx, s, results)
         n_b = m.bonds.n_bonds
-        timing = {
+        timing: dict[str, Any] = {
             "wall_s": wall,
             "steps": steps,
             "setup_s": self.setup_s,
@@ -880,6 +1017,9 @@ class Simulation:
         }
         if work != steps:  # a static solver: iterations per step vary
             timing["iterations"] = work
+        if self.session is not None:
+            timing["ranks"] = self.session.comm.size
+            timing["halo_exchange_s"] = exchange_s
         extra: dict[str, Any] = {"status": ctx.status, "files": files}
         if error:
             extra["error"] = error
@@ -890,6 +1030,24 @@ class Simulation:
             timing,
             extra,
         )
+
+
+def _on_step(observers: list[Observer], ctx: RunContext, result: Any, s: State) -> None:
+    """Every observer's ``on_step`` hook."""
+    for ob in observers:
+        ob.on_step(ctx, s, result)
+
+
+def _crash_hook(dist: Any) -> int | None:
+    """Test hook of a decomposed run: the step after which rank
+    ``PERIDYNAMICS_CRASH_RANK`` (default 0) dies (exit 137, like SIGKILL), from
+    ``PERIDYNAMICS_CRASH_AT_STEP``; ``None`` when unset or serial (serial runs use the
+    :class:`~peridynamics.io.observers.CrashAtStep` observer)."""
+    if dist is None or "PERIDYNAMICS_CRASH_AT_STEP" not in os.environ:
+        return None
+    if int(os.environ.get("PERIDYNAMICS_CRASH_RANK", "0")) != dist.comm.rank:
+        return None
+    return int(os.environ["PERIDYNAMICS_CRASH_AT_STEP"])
 
 
 class RunInterrupted(KeyboardInterrupt):

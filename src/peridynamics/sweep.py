@@ -12,12 +12,15 @@ fingerprint, resumes interrupted ones that left a checkpoint, and reruns the res
 from __future__ import annotations
 
 import argparse
-import os
 import shlex
 import sys
 from pathlib import Path
 from typing import Any
 
+from peridynamics.parallel.launch import LaunchError
+from peridynamics.parallel.launch import mpi_comm as _mpi_comm
+from peridynamics.parallel.launch import node_ranks as _node_ranks
+from peridynamics.parallel.launch import threads_per_process as _threads
 from peridynamics.sweep_cases import Case, SweepError, build_cases, validate
 from peridynamics.sweep_report import (
     counts,
@@ -34,45 +37,6 @@ EXIT_OK, EXIT_INVALID, EXIT_CASES_FAILED, EXIT_INTERRUPTED = 0, 2, 4, 130
 
 def _err(msg: str) -> None:
     print(msg, file=sys.stderr, flush=True)
-
-
-# ------------------------------------------------------------------------------ MPI
-def _mpi_comm() -> Any:
-    """COMM_WORLD when started by ``mpiexec -n N`` (N > 1) with mpi4py, else ``None``.
-
-    mpi4py is imported only when the environment shows an MPI launch, so a plain sweep
-    never initialises MPI. Raises SweepError when launched on several ranks without
-    mpi4py (each rank would run every case).
-    """
-    if not any(k.startswith(("PMI_", "PMIX_", "OMPI_COMM_WORLD_")) for k in os.environ):
-        return None
-    ranks = os.environ.get("PMI_SIZE") or os.environ.get("OMPI_COMM_WORLD_SIZE") or "1"
-    try:
-        from mpi4py import MPI
-    except ImportError:
-        if ranks.isdigit() and int(ranks) > 1:
-            raise SweepError(
-                f"started on {ranks} MPI ranks but mpi4py is not installed: "
-                "pip install 'peridynamics[mpi]' (or run without mpiexec)"
-            ) from None
-        return None
-    comm = MPI.COMM_WORLD
-    if comm.Get_size() == 1 and ranks.isdigit() and int(ranks) > 1:
-        raise SweepError(
-            f"mpiexec started {ranks} ranks but mpi4py sees one: mpi4py uses another MPI "
-            "library than this mpiexec (use the mpiexec of the MPI that mpi4py was built "
-            "with, e.g. the one installed with peridynamics[mpi])"
-        )
-    return comm if comm.Get_size() > 1 else None
-
-
-def _node_ranks(comm: Any) -> int:
-    """Ranks sharing this machine (they share its cores)."""
-    if comm is None:
-        return 1
-    from mpi4py import MPI
-
-    return int(comm.Split_type(MPI.COMM_TYPE_SHARED).Get_size())
 
 
 def assign(cases: list[Case], n_ranks: int) -> list[list[Case]]:
@@ -94,14 +58,6 @@ def assign(cases: list[Case], n_ranks: int) -> list[list[Case]]:
 
 
 # ----------------------------------------------------------------------- the command
-def _threads(jobs: int, node_ranks: int) -> int:
-    try:
-        cores = len(os.sched_getaffinity(0))
-    except AttributeError:  # not Linux
-        cores = os.cpu_count() or 1
-    return max(1, cores // (jobs * node_ranks))
-
-
 def _report(
     args: argparse.Namespace, plan: Plan, cases: list[Case], keys: list[str],
     records: list[dict[str, Any]], ranks: int, final: bool,
@@ -204,7 +160,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     keys: list[str] = []
     try:
         comm = _mpi_comm()
-    except SweepError as exc:
+    except LaunchError as exc:
         problem = f"sweep: {exc}"
     if comm is not None:
         rank, ranks = comm.Get_rank(), comm.Get_size()

@@ -251,7 +251,15 @@ class Bonds:
         n = np.int64(self.n_points)
         key = self.bond_i.astype(np.int64) * n + self.bond_j
         rkey = self.bond_j.astype(np.int64) * n + self.bond_i
-        return np.searchsorted(key, rkey)  # keys are sorted by construction
+        if len(key) < 2 or bool(np.all(key[1:] > key[:-1])):
+            return np.searchsorted(key, rkey)  # keys sorted by construction (serial)
+        # a rank's list (families in global-id order, ghosts of the second layer
+        # without a family): look up through a sort; a bond whose reverse is not held
+        # here points to itself (only ghost families have such bonds)
+        order = np.argsort(key, kind="stable")
+        pos = np.minimum(np.searchsorted(key, rkey, sorter=order), len(key) - 1)
+        found = order[pos]
+        return np.where(key[found] == rkey, found, np.arange(len(key)))
 
     def cut(self, x: NDArray[np.float64], cracks: Sequence[Crack]) -> Bonds:
         """Return a copy with every bond crossing one of ``cracks`` marked broken."""

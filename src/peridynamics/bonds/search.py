@@ -86,14 +86,7 @@ def directed_bonds(
         raise ValueError("more than 2**31 points are not supported (int32 indices)")
     if n < 2 or not (np.isfinite(radius) and radius > 0) or not np.all(np.isfinite(x)):
         return directed_csr(find_pairs(x, radius), n)  # degenerate: the reference path
-    x3 = np.zeros((n, 3))
-    x3[:, :dim] = x  # padded coordinates add +0.0 to the squared distance: no change
-    cell, shape = _cell_keys(x3, radius)
-    order = np.argsort(cell, kind="stable")  # each cell in increasing point index
-    cell_start = np.zeros(int(np.prod(shape)) + 1, dtype=np.int64)
-    np.cumsum(np.bincount(cell, minlength=len(cell_start) - 1), out=cell_start[1:])
-    xs = np.ascontiguousarray(x3[order])
-    r2 = float(radius) * float(radius)  # cKDTree's upper bound for p = 2
+    x3, cell, xs, order, cell_start, shape, r2 = _cell_grid(x, radius)
     counts = np.empty(n, dtype=np.int64)
     count_neighbours(x3, cell, xs, order, cell_start, shape, r2, _REACH, counts)
     offsets = np.zeros(n + 1, dtype=np.int64)
@@ -102,6 +95,38 @@ def directed_bonds(
     bond_j = np.empty(int(offsets[-1]), dtype=np.int32)
     fill_neighbours(x3, cell, xs, order, cell_start, shape, r2, _REACH, offsets, bond_i, bond_j)
     return offsets, bond_i, bond_j
+
+
+def _cell_grid(x: NDArray[np.float64], radius: float) -> tuple:
+    """The cell grid of the search: padded positions (n, 3), cell keys, positions in
+    cell order, that order, cell starts, cells per axis and the squared radius (the
+    arguments of the count and fill kernels, in their order)."""
+    n, dim = x.shape
+    x3 = np.zeros((n, 3))
+    x3[:, :dim] = x  # padded coordinates add +0.0 to the squared distance: no change
+    cell, shape = _cell_keys(x3, radius)
+    order = np.argsort(cell, kind="stable")  # each cell in increasing point index
+    cell_start = np.zeros(int(np.prod(shape)) + 1, dtype=np.int64)
+    np.cumsum(np.bincount(cell, minlength=len(cell_start) - 1), out=cell_start[1:])
+    xs = np.ascontiguousarray(x3[order])
+    r2 = float(radius) * float(radius)  # cKDTree's upper bound for p = 2
+    return x3, cell, xs, order, cell_start, shape, r2
+
+
+def neighbour_counts(x: NDArray[np.float64], radius: float) -> NDArray[np.int64]:
+    """Number of points within ``radius`` of every point (itself excluded), shape
+    (n_points,): the family sizes of :func:`directed_bonds` without building the list
+    (O(n_points) memory; the domain decomposition balances ranks by it)."""
+    from peridynamics.kernels.cell_search import count_neighbours
+
+    x = np.ascontiguousarray(x, dtype=np.float64)
+    n = x.shape[0]
+    if n < 2:
+        return np.zeros(n, dtype=np.int64)
+    x3, cell, xs, order, cell_start, shape, r2 = _cell_grid(x, radius)
+    counts = np.empty(n, dtype=np.int64)
+    count_neighbours(x3, cell, xs, order, cell_start, shape, r2, _REACH, counts)
+    return counts
 
 
 def _cell_keys(

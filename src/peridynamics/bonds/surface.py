@@ -28,6 +28,7 @@ from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds, setup_chunk_bonds
 from peridynamics.bonds.search import bond_chunks
+from peridynamics.parallel.communicator import active_comm
 
 #: the dimensionless fourth moment <n_x^4> of the continuous ball, 3 / (d (d + 2))
 _COS4 = {1: 1.0, 2: 3.0 / 8.0, 3: 1.0 / 5.0}
@@ -67,8 +68,9 @@ def energy_correction_factors(
             w[k, p0:p1] = np.bincount(
                 owner - p0, stiffness[a:b] * s * s * length, minlength=p1 - p0
             )
-    for k in range(dim):
-        lam[k] = continuum_energy_density / (0.25 * w[k])
+    with np.errstate(divide="ignore"):  # ghosts without a family (MPI): exchanged below
+        for k in range(dim):
+            lam[k] = continuum_energy_density / (0.25 * w[k])
     return bond_factors_from_point_ratios(bonds, lam)
 
 
@@ -80,6 +82,11 @@ def bond_factors_from_point_ratios(
     = W_inf / W_k,i of any model family (the shared step of the energy method)."""
     out = np.empty(bonds.n_bonds)
     dim = ratios.shape[0]
+    comm = active_comm()
+    if comm.size > 1:  # ghosts without a family here take their owner's ratios
+        r = np.ascontiguousarray(ratios.T)
+        comm.exchange(r)
+        ratios = r.T
     for a, b in bond_chunks(bonds.offsets, setup_chunk_bonds(dim)):  # bounded transients
         bi, bj = bonds.bond_range("bond_i", a, b), bonds.bond_j[a:b]
         n_hat = bonds.bond_range("bond_xi", a, b) / bonds.bond_range("bond_length", a, b)[:, None]

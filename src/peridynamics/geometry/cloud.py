@@ -97,6 +97,10 @@ class PointCloud:
     grid_fit : tuple of GridFit
         The lengths of a grid generator that were not whole multiples of the spacing
         (the grid is shorter and centred in them); empty when every length fitted.
+    global_ids : ndarray of int, shape (n_points,), optional
+        Under MPI, the global id of every point of a rank's part of the body (owned
+        points, then ghosts; :mod:`peridynamics.parallel.local`); ``None`` in a serial
+        run (the ids are ``0 .. n_points - 1``). Random fields are drawn by global id.
     """
 
     x: NDArray[np.float64]
@@ -107,6 +111,7 @@ class PointCloud:
     node_sets: Mapping[str, NDArray[np.intp]] = field(default_factory=dict)
     irregular: bool = False
     grid_fit: tuple[GridFit, ...] = ()
+    global_ids: NDArray[np.int64] | None = None
 
     def __post_init__(self) -> None:
         x = np.ascontiguousarray(np.atleast_2d(np.asarray(self.x, dtype=np.float64)))

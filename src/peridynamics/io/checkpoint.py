@@ -20,6 +20,7 @@ def write_checkpoint(
     records: dict[str, Any],
     fingerprint: str,
     meta: dict[str, Any] | None = None,
+    name: str = CHECKPOINT_NAME,
 ) -> Path:
     """Write ``out_dir/checkpoint.npz`` atomically (write a temporary file, fsync, then
     rename; a crash leaves at most ``checkpoint.npz.tmp``, which the next run removes).
@@ -28,8 +29,8 @@ def write_checkpoint(
     fields such as the SED levels included), as ``state_<name>``. ``meta`` is a small
     JSON mapping about the run (``{"finished": true}`` on the final checkpoint of a
     run); :func:`read_checkpoint_meta` reads it back (``{}`` when absent)."""
-    path = out_dir / CHECKPOINT_NAME
-    tmp = out_dir / (CHECKPOINT_NAME + ".tmp")
+    path = out_dir / name
+    tmp = out_dir / (name + ".tmp")
     arrays: dict[str, Any] = {f"state_{k}": v for k, v in state.to_arrays().items()}
     arrays["records_json"] = np.frombuffer(json.dumps(records).encode(), dtype=np.uint8)
     arrays["fingerprint"] = np.frombuffer(fingerprint.encode(), dtype=np.uint8)
@@ -43,11 +44,13 @@ def write_checkpoint(
     return path
 
 
-def read_checkpoint(out_dir: Path) -> tuple[State, dict[str, Any], str]:
+def read_checkpoint(
+    out_dir: Path, name: str = CHECKPOINT_NAME
+) -> tuple[State, dict[str, Any], str]:
     """Read the checkpoint in ``out_dir``: (state, records, deck fingerprint)."""
-    path = out_dir / CHECKPOINT_NAME
+    path = out_dir / name
     if not path.exists():
-        raise FileNotFoundError(f"no checkpoint in {str(out_dir)!r} (expected {CHECKPOINT_NAME})")
+        raise FileNotFoundError(f"no checkpoint in {str(out_dir)!r} (expected {name})")
     with np.load(path) as data:
         state = State.from_arrays({k[6:]: data[k] for k in data.files if k.startswith("state_")})
         records = json.loads(bytes(data["records_json"]).decode())

@@ -46,6 +46,19 @@ class RunContext:
     status: str = "completed"
     damage_cache: dict[int, NDArray] = field(default_factory=dict)
     initial_damage_cache: NDArray | None = None
+    #: a decomposed run's :class:`~peridynamics.parallel.session.Session` (else None)
+    session: Any = None
+
+    def write_checkpoint(self, s: State, meta: dict[str, Any] | None = None) -> Path:
+        """A checkpoint of ``s`` with the records (under MPI every rank writes its own
+        part, :mod:`peridynamics.parallel.checkpoints`); its path."""
+        if self.session is None:
+            return write_checkpoint(self.out, s, self.records, self.fingerprint, meta)
+        from peridynamics.parallel.checkpoints import write_rank_checkpoints
+
+        return self.session.call(
+            "call", write_rank_checkpoints, str(self.out), self.records, self.fingerprint, meta
+        )
 
     def history_due(self, s: State) -> bool:
         """True when histories are recorded after this step: every
@@ -196,9 +209,8 @@ class History(Observer):
         r["max_damage"].append(m.comm.max(float(damage.max())))
         # specimen damage factor (PD zero-energy modes (n.d.), eq. 13): bonds broken in
         # the run / all bonds (pre-cracked bonds count as neither failed nor intact)
-        failed = int(np.count_nonzero(m.bonds.bond_intact)) - int(np.count_nonzero(s.intact))
-        total = m.comm.sum(float(m.bonds.n_bonds))
-        r.setdefault("damage_factor", []).append(m.comm.sum(float(failed)) / max(total, 1.0))
+        failed, total = m.bond_counts(s)
+        r.setdefault("damage_factor", []).append(failed / max(total, 1.0))
         self._last: dict[str, float] = {}
         for p in self.deck.output.probes:
             value = self.probe_value(p, s, damage)
@@ -379,7 +391,7 @@ class Checkpoints(Observer):
 
     def on_step(self, ctx: RunContext, s: State, result: StepResult) -> None:
         if s.step % self.every == 0:
-            write_checkpoint(ctx.out, s, ctx.records, ctx.fingerprint)
+            ctx.write_checkpoint(s)
 
 
 class CrashAtStep(Observer):
@@ -624,33 +636,64 @@ class BondList(Observer):
         self.model = model
 
     def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
-        from peridynamics.bonds.bonds import setup_chunk_bonds
-        from peridynamics.bonds.search import bond_chunks
-
+        if ctx.session is not None:  # every rank's owned bonds, in global ids, on rank 0
+            joined = ctx.session.call("call", _gathered_half_bonds)
+        else:
+            joined = half_bonds(self.model.bonds, s.intact)
         b, cloud = self.model.bonds, self.model.cloud
-        parts: dict[str, list[NDArray]] = {k: [] for k in ("i", "j", "length_m", "intact", "ini")}
-        for a, z in bond_chunks(b.offsets, setup_chunk_bonds(cloud.dim)):  # derived by range
-            bi = b.bond_range("bond_i", a, z)
-            half = bi < b.bond_j[a:z]
-            parts["i"].append(bi[half].astype(np.int32))
-            parts["j"].append(b.bond_j[a:z][half].astype(np.int32))
-            parts["length_m"].append(b.bond_range("bond_length", a, z)[half])
-            parts["intact"].append(s.intact[a:z][half])
-            parts["ini"].append(b.bond_intact[a:z][half])
-        joined = {k: np.concatenate(v) if v else np.zeros(0) for k, v in parts.items()}
         path = ctx.out / "bonds.npz"
         np.savez(
             path,
             i=joined["i"].astype(np.int32),
             j=joined["j"].astype(np.int32),
             length_m=joined["length_m"].astype(np.float64),
-            intact=joined["intact"].astype(s.intact.dtype),
-            initially_intact=joined["ini"].astype(b.bond_intact.dtype),
+            intact=joined["intact"].astype(np.uint8),
+            initially_intact=joined["ini"].astype(np.uint8),
             x_m=cloud.x,
             volume_m3=cloud.volume,
             horizon_m=np.float64(b.horizon),
         )
         return [path.name]
+
+
+def half_bonds(
+    b: Any, intact: NDArray, end: int | None = None, gid: NDArray | None = None
+) -> dict[str, NDArray]:
+    """Each bond of the families ``0:end`` once (i < j, by ``gid`` when given): end
+    points, reference length, current and initial status."""
+    from peridynamics.bonds.bonds import setup_chunk_bonds
+    from peridynamics.bonds.search import bond_chunks
+
+    end = int(b.offsets[-1]) if end is None else end
+    parts: dict[str, list[NDArray]] = {k: [] for k in ("i", "j", "length_m", "intact", "ini")}
+    for a, z in bond_chunks(b.offsets, setup_chunk_bonds(b.x.shape[1])):  # derived by range
+        z = min(z, end)
+        if a >= z:
+            break
+        bi, bj = b.bond_range("bond_i", a, z), b.bond_j[a:z]
+        if gid is not None:
+            bi, bj = gid[bi], gid[bj]
+        half = bi < bj
+        parts["i"].append(bi[half])
+        parts["j"].append(bj[half])
+        parts["length_m"].append(b.bond_range("bond_length", a, z)[half])
+        parts["intact"].append(intact[a:z][half])
+        parts["ini"].append(b.bond_intact[a:z][half])
+    return {k: np.concatenate(v) if v else np.zeros(0) for k, v in parts.items()}
+
+
+def _gathered_half_bonds(session: Any) -> dict[str, NDArray] | None:
+    """Every rank: its owned half bonds in global ids; rank 0: all of them, in the
+    order of a serial run's bonds.npz (sorted by i, then j)."""
+    m, s = session.model, session.state
+    end = int(m.bonds.offsets[session.comm.n_owned])
+    mine = half_bonds(m.bonds, s.intact, end, m.cloud.global_ids)
+    parts = session.comm.comm.gather(mine, root=0)
+    if not session.root:
+        return None
+    joined = {k: np.concatenate([p[k] for p in parts]) for k in mine}
+    order = np.lexsort((joined["j"], joined["i"]))
+    return {k: v[order] for k, v in joined.items()}
 
 
 def observers_for(deck: dk.Deck, model: Model, hybrid: bool, checkpoint_every: int) -> list:

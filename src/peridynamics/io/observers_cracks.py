@@ -96,7 +96,8 @@ class CrackLength(Observer):
         """Crack length (area) of ``s``: reused while no further bond broke."""
         if self._last is not None and self._last[0] == s.bonds_broken:
             return self._last[1]
-        v = self._meter().measure(all_intact(self.model, s))
+        distributed = getattr(self.model, "crack_measure", None)  # every rank its bonds
+        v = distributed() if distributed else self._meter().measure(all_intact(self.model, s))
         self._last = (s.bonds_broken, v)
         return v
 
@@ -114,14 +115,20 @@ class CrackLength(Observer):
         ctx.records[self.keys["history"]].append(self.value(s))
 
     def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
-        meter, m, keys = self._meter(), self.model, self.keys
-        intact = all_intact(m, s)
-        idx, w = meter.weights(intact)
+        m, keys = self.model, self.keys
+        weights, measure = getattr(m, "crack_weights", None), getattr(m, "crack_measure", None)
+        if weights is not None and measure is not None:  # a decomposed run
+            mid, w = weights()
+            results[keys["all"]] = measure(separating=False)
+        else:
+            meter = self._meter()
+            intact = all_intact(m, s)
+            idx, w = meter.weights(intact)
+            results[keys["all"]] = meter.measure(intact, separating=False)
+            mid = meter.midpoints(idx)
         results[keys["total"]] = float(w.sum())
         results[keys["history"]] = list(ctx.records.get(keys["history"], []))
-        results[keys["all"]] = meter.measure(intact, separating=False)
         horizon = m.bonds.horizon
-        mid = meter.midpoints(idx)
         o = self.deck.output
         if o.crack_paths and isinstance(results.get("crack_paths"), dict):
             from peridynamics.io.observers import CrackPaths
@@ -136,7 +143,7 @@ class CrackLength(Observer):
         ct = o.crack_tip
         if ct is not None and self.dim == 2:
             if ct.direction is None:
-                ahead = np.ones(idx.size, dtype=bool)
+                ahead = np.ones(w.size, dtype=bool)
             else:
                 d = np.asarray(ct.direction, dtype=float)
                 d = d / np.linalg.norm(d)
@@ -148,6 +155,9 @@ class CrackLength(Observer):
 def _broken_pairs(model: Model, s: State) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
     """End points (i, j) of the directed bonds broken during the run (pre-cracks
     excluded), interface bonds included."""
+    pairs = getattr(model, "broken_pairs", None)
+    if pairs is not None:  # a decomposed run (global ids)
+        return pairs()
     b = model.bonds
     k = np.flatnonzero(b.bond_intact.astype(bool) & (s.intact == 0))
     ii, jj = [b.bond_i[k]], [b.bond_j[k]]

@@ -87,8 +87,7 @@ class VTKFrames(Observer):
         """Write one frame (``name``: a one-off file outside the series); returns its
         file name."""
         data = frame_fields(self.deck, s, ctx.damage(s))
-        fname = name or f"frame_{s.step:07d}.vtu"
-        self._write(ctx.out / fname, data)
+        fname = self._write(ctx.out / (name or f"frame_{s.step:07d}.vtu"), data)
         if name is None:
             frames = [f for f in ctx.records["vtk_frames"] if f[1] != fname]
             frames.append((s.t, fname))
@@ -98,15 +97,27 @@ class VTKFrames(Observer):
                 self._png(ctx, s, fname)
         return fname
 
-    def _write(self, path: Path, data: dict[str, NDArray]) -> None:
+    def _write(self, path: Path, data: dict[str, NDArray]) -> str:
+        """Write a frame; its file name. A decomposed run writes one piece per rank
+        (the points it owns) and a ``.pvtu`` file that joins them (the name returned)."""
         o = self.deck.output
-        write_vtu(
-            path,
-            self.model.cloud.x,
-            data,
-            precision=o.frame_precision,
-            compression=None if o.frame_compression == "none" else o.frame_compression,
-        )
+        compression = None if o.frame_compression == "none" else o.frame_compression
+        ranks = getattr(self.model, "point_ranks", None)
+        x = self.model.cloud.x
+        if ranks is None:
+            write_vtu(path, x, data, precision=o.frame_precision, compression=compression)
+            return path.name
+        from peridynamics.io.pvtu import piece_name, pvtu_fields, write_pvtu
+
+        pieces = []
+        for r, idx in enumerate(ranks):
+            pieces.append(piece_name(path.name, r))
+            piece = {k: v[idx] for k, v in data.items()}
+            write_vtu(path.parent / pieces[-1], x[idx], piece, precision=o.frame_precision,
+                      compression=compression)  # fmt: skip
+        target = path.with_suffix(".pvtu")
+        write_pvtu(target, pieces, o.frame_precision, pvtu_fields(data, o.frame_precision))
+        return target.name
 
     def _png(self, ctx: RunContext, s: State, fname: str) -> None:
         from peridynamics.io.figures import deformed_figure
@@ -117,7 +128,7 @@ class VTKFrames(Observer):
             title = f"{self.deck.name}: load step {s.step}"  # pseudo-time is no time
         else:
             title = f"{self.deck.name}: step {s.step}, t = {s.t * 1e6:.3g} us"
-        deformed_figure(folder / fname.replace(".vtu", ".png"), self.deck, self.model, s,
+        deformed_figure(folder / (Path(fname).stem + ".png"), self.deck, self.model, s,
                         ctx.damage(s), title)  # fmt: skip
 
     def _event(self, ctx: RunContext, s: State, name: str, **extra: float) -> None:
@@ -187,8 +198,8 @@ class VTKFrames(Observer):
     def _write_peak(self, ctx: RunContext) -> None:
         if self._peak is None or self._peak_written or "peak_load" not in self.events:
             return
-        self._write(ctx.out / "event_peak_load.vtu", self._peak[3])
-        ctx.records["events"]["peak_load"]["file"] = "event_peak_load.vtu"
+        name = self._write(ctx.out / "event_peak_load.vtu", self._peak[3])
+        ctx.records["events"]["peak_load"]["file"] = name
         self._peak_written = True
 
     def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
@@ -198,8 +209,8 @@ class VTKFrames(Observer):
         if ctx.status == "unstable":
             return []
         if not every or s.step % every:
-            if not ctx.records["vtk_frames"] or ctx.records["vtk_frames"][-1][1] != (
-                f"frame_{s.step:07d}.vtu"
+            if not ctx.records["vtk_frames"] or Path(ctx.records["vtk_frames"][-1][1]).stem != (
+                f"frame_{s.step:07d}"
             ):
                 self.frame(ctx, s)
         return []

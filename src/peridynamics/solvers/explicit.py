@@ -269,12 +269,24 @@ class ExplicitSolver:
         """
         limit = self._blowup_limit
         comm = self.model.comm
-        shift = comm.sum_array(s.u.sum(axis=0)) / comm.sum(float(len(s.u)))
-        k = int(bond_based.first_bad_point(s.u, s.v, shift, limit))
+        own = comm.owned  # ghost rows are other ranks' points
+        shift = comm.sum_array(s.u[own].sum(axis=0)) / comm.sum(float(len(s.u[own])))
+        k = int(bond_based.first_bad_point(s.u[own], s.v[own], shift, limit))
         self.model.force_model.update_max_stretch(s, self.max_stretch)
-        smax = comm.max(float(s.max_stretch.max()) if s.max_stretch.size else 0.0)
-        if k < 0 and smax > self.max_stretch:
-            k = int(np.argmax(s.max_stretch))
+        stretch = s.max_stretch[own]
+        smax = comm.max(float(stretch.max()) if stretch.size else 0.0)
+        if k < 0 and smax > self.max_stretch and stretch.size:
+            k = int(np.argmax(stretch)) if stretch.max() > self.max_stretch else -1
+        if comm.size > 1 and comm.any(k >= 0) and k < 0:
+            raise SimulationUnstable(
+                f"the run went unstable at step {s.step}, t = {s.t:.6g} s on another MPI "
+                "rank (its message says where)",
+                s.step,
+                s.t,
+                -1,
+                [],
+                self.last_good,
+            )
         if k >= 0:
             nonfinite = ~(np.isfinite(s.u).all(axis=1) & np.isfinite(s.v).all(axis=1))
             if nonfinite.any():  # report a point that is really non-finite

@@ -1,0 +1,91 @@
+"""Build one rank's part of a decomposed run from a deck (``mpiexec -n N peridynamics run``).
+
+Every rank builds the global point cloud, cuts out its points and ghosts
+(:mod:`peridynamics.parallel.local`), builds the bonds of its owned points and of the
+first ghost layer on that local cloud, then the model, loads and solver exactly as a
+serial run does, with the MPI communicator active
+(:func:`~peridynamics.parallel.communicator.using`).
+What a decomposed run cannot do yet is refused here with the key that asks for it.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from peridynamics.io import deck as dk
+from peridynamics.parallel.communicator import using
+from peridynamics.parallel.local import (
+    decompose,
+    local_cloud,
+    localize_condition,
+    own_families,
+)
+from peridynamics.parallel.mpi import MPICommunicator
+
+
+def _refuse(deck: dk.Deck, size: int) -> None:
+    """SetupError for what a decomposed run does not support."""
+    from peridynamics.bodies.from_deck import has_bodies
+    from peridynamics.runner import SetupError
+
+    how = f"run it on one rank (without mpiexec -n {size}), or as an ensemble/sweep member"
+    s = deck.solver
+    if isinstance(s, dk.StaticSolverSpec):
+        raise SetupError("solver.type", f"the static (Newton) solver is not distributed; {how}")
+    if isinstance(s, dk.Solver) and (s.hybrid is not None or s.method == "fdm"):
+        key = "solver.hybrid" if s.hybrid is not None else "solver.method"
+        raise SetupError(key, f"hybrid and finite-difference runs are 1-D and serial; {how}")
+    if has_bodies(deck):
+        raise SetupError("bodies", f"several bodies are not distributed yet; {how}")
+    if deck.rigid_bodies:
+        raise SetupError("rigid_bodies", f"rigid bodies are not distributed yet; {how}")
+    if isinstance(deck.material, dk.MicropolarMaterialSpec):
+        raise SetupError("material.model", f"micropolar runs are not distributed; {how}")
+
+
+def build_distributed(deck: dk.Deck, comm: Any) -> dict[str, Any]:
+    """The objects of this rank: ``cloud`` (local), ``global_cloud``, ``model``,
+    ``solver``, ``communicator`` (a :class:`MPICommunicator`) and ``n_family`` (points
+    with a bond family: owned and first ghost layer)."""
+    from peridynamics.bonds.partial_volume import search_radius
+    from peridynamics.runner import (
+        SetupError,
+        build_bonds_for,
+        build_cloud,
+        build_conditions,
+        build_model,
+        build_solver,
+    )
+
+    size = int(comm.Get_size())
+    global_cloud = build_cloud(deck)
+    if global_cloud.dim == 1:
+        raise SetupError(
+            "geometry", f"1-D runs are not decomposed; run it on one rank (not mpiexec -n {size})"
+        )
+    _refuse(deck, size)
+    d = deck.discretisation
+    radius = search_radius(d.delta, global_cloud.spacing, d.partial_volume)
+    ghost_radius = 2.0 * radius
+    if deck.contact is not None:  # points that may touch an owned point
+        ghost_radius += deck.contact.distance_factor * global_cloud.spacing
+    layout, n_family = decompose(comm, global_cloud, radius, ghost_radius)
+    cloud = local_cloud(global_cloud, layout)
+    mpi = MPICommunicator(comm, layout)
+    # on the global cloud (a traction's layer thickness is that of the whole node set)
+    body, kin, init = (
+        [localize_condition(c, layout.owned_ids) for c in group]
+        for group in build_conditions(deck, global_cloud)
+    )
+    with using(mpi):
+        bonds = own_families(build_bonds_for(deck, cloud), cloud, n_family)
+        model = build_model(deck, cloud, bonds, body)
+        solver = build_solver(deck, cloud, model, body, kin, init)
+    return {
+        "cloud": cloud,
+        "global_cloud": global_cloud,
+        "model": model,
+        "solver": solver,
+        "communicator": mpi,
+        "n_family": n_family,
+    }

@@ -1,0 +1,140 @@
+"""A rank's part of the body: its owned points and ghosts, and the bonds of its owned points.
+
+:func:`local_cloud` cuts the global :class:`~peridynamics.geometry.cloud.PointCloud`
+(every rank builds it: O(n_points) memory, small beside the bonds) into the points this
+rank holds, ``[owned | ghost]``; node sets keep their owned members only (a boundary
+condition or probe acts where its points are owned). :func:`own_families` turns a bond
+list built on that local cloud into the list of the owned families, each sorted by the
+global id of the neighbour (the serial order), with empty families for the ghosts.
+"""
+
+from __future__ import annotations
+
+from dataclasses import fields, replace
+from typing import Any
+
+import numba
+import numpy as np
+from numpy.typing import NDArray
+
+from peridynamics.bonds.bonds import Bonds
+from peridynamics.bonds.search import neighbour_counts
+from peridynamics.geometry.cloud import PointCloud
+from peridynamics.parallel.decompose import Layout, ghost_points, rcb_partition
+
+
+def decompose(
+    comm: Any, cloud: PointCloud, search_radius: float, ghost_radius: float
+) -> tuple[Layout, int]:
+    """The layout of this rank and its number of points with a bond family (collective:
+    one ``alltoall`` of ghost requests).
+
+    Local points are ``[owned | first layer | second layer]``, each part in increasing
+    global id. The first layer (ghosts within ``search_radius`` of an owned point) gets
+    its bond families here too, so every per-point quantity the force pass reads at the
+    far end of an owned bond (dilatation, deformation gradient, SED level, surface
+    factors) is computed on this rank from exchanged displacements, bit for bit as its
+    owner computes it: one halo exchange of u and v per evaluation suffices.
+
+    Parameters
+    ----------
+    comm : mpi4py communicator.
+    cloud : the global point cloud (the same on every rank).
+    search_radius : bond search radius (m); the partition weight of a point is the number
+        of points within it (its bond count).
+    ghost_radius : distance (m) within which other ranks' points are held as ghosts, at
+        least twice ``search_radius`` (the families of the first layer reach that far).
+    """
+    from peridynamics.parallel.mpi import build_exchange_lists
+
+    rank, size = int(comm.Get_rank()), int(comm.Get_size())
+    weights = neighbour_counts(cloud.x, search_radius).astype(np.float64) + 1.0
+    part = rcb_partition(cloud.x, weights, size)
+    owned = np.flatnonzero(part == rank)
+    ghosts = ghost_points(cloud.x, owned, ghost_radius)
+    first = np.isin(ghosts, ghost_points(cloud.x, owned, search_radius))
+    ghosts = np.concatenate([ghosts[first], ghosts[~first]])
+    recv, send = build_exchange_lists(comm, part, owned, ghosts)
+    layout = Layout(rank, size, part, np.concatenate([owned, ghosts]), len(owned), recv, send)
+    return layout, len(owned) + int(first.sum())
+
+
+def local_cloud(cloud: PointCloud, layout: Layout) -> PointCloud:
+    """The points this rank holds (owned, then ghosts) with owned-only node sets and
+    their global ids."""
+    ids = layout.local_ids
+    owned = layout.owned_ids
+    sets = {}
+    for name, members in cloud.node_sets.items():
+        pos = np.searchsorted(owned, members)
+        hit = pos < len(owned)
+        hit[hit] = owned[pos[hit]] == members[hit]
+        sets[name] = pos[hit].astype(np.intp)
+    return replace(
+        cloud,
+        x=cloud.x[ids],
+        volume=cloud.volume[ids],
+        node_sets=sets,
+        global_ids=ids.astype(np.int64),
+    )
+
+
+@numba.njit(cache=True, parallel=True)
+def _sort_families(
+    offsets: NDArray[np.int64],
+    bond_j: NDArray[np.int32],
+    intact: NDArray[np.uint8],
+    gid: NDArray[np.int64],
+) -> None:  # pragma: no cover - compiled
+    """Sort every family by the global id of the neighbour (intact flags follow)."""
+    for i in numba.prange(len(offsets) - 1):
+        a, b = offsets[i], offsets[i + 1]
+        keys = np.empty(b - a, dtype=np.int64)
+        for k in range(a, b):
+            keys[k - a] = gid[bond_j[k]]
+        order = np.argsort(keys, kind="mergesort")
+        js = bond_j[a:b].copy()
+        fl = intact[a:b].copy()
+        for k in range(b - a):
+            bond_j[a + k] = js[order[k]]
+            intact[a + k] = fl[order[k]]
+
+
+def own_families(bonds: Bonds, cloud: PointCloud, n_owned: int) -> Bonds:
+    """The bonds of the owned points (the first ``n_owned``) of a list built on the local
+    cloud, each family in the serial order; ghost points get empty families."""
+    assert cloud.global_ids is not None
+    end = int(bonds.offsets[n_owned])
+    offsets = bonds.offsets.copy()
+    offsets[n_owned + 1 :] = end
+    bond_j = np.ascontiguousarray(bonds.bond_j[:end])
+    intact = np.ascontiguousarray(bonds.bond_intact[:end])
+    _sort_families(offsets[: n_owned + 1], bond_j, intact, cloud.global_ids)
+    return Bonds(
+        offsets=offsets,
+        bond_j=bond_j,
+        bond_intact=intact,
+        horizon=bonds.horizon,
+        partial_volume=bonds.partial_volume,
+        x=cloud.x,
+        point_volume=cloud.volume,
+        spacing=bonds.spacing,
+    )
+
+
+def localize_condition(cond: Any, owned_ids: NDArray[np.intp]) -> Any:
+    """A boundary or initial condition built on the global cloud, restricted to the owned
+    points of this rank in local numbering (per-node value arrays follow). Building on
+    the global cloud keeps what depends on the whole node set (the layer thickness of a
+    traction, a cavity's pressure layer) as in the serial run."""
+    nodes = np.asarray(cond.nodes)
+    pos = np.searchsorted(owned_ids, nodes)
+    hit = pos < len(owned_ids)
+    hit[hit] = owned_ids[pos[hit]] == nodes[hit]
+    changes: dict[str, Any] = {"nodes": pos[hit].astype(np.intp)}
+    for f in fields(cond):
+        value = getattr(cond, f.name)
+        if f.name != "nodes" and isinstance(value, np.ndarray) and value.ndim >= 1:
+            if value.shape[0] == nodes.shape[0]:
+                changes[f.name] = value[hit]
+    return replace(cond, **changes)

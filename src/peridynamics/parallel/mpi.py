@@ -1,0 +1,184 @@
+"""The MPI communicator: reductions with ``Allreduce``, halo exchanges with non-blocking
+point-to-point messages (mpi4py over the MPI of the ``mpich`` wheel, extra ``[mpi]``).
+
+A rank holds its points as ``[owned | ghost]`` (:class:`~peridynamics.parallel.decompose.Layout`).
+:meth:`MPICommunicator.exchange` copies the owned rows other ranks hold as ghosts into
+contiguous buffers, posts every ``Isend``/``Irecv`` and waits for all, then scatters the
+received rows into the ghost rows: one message per neighbour rank and field.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from peridynamics.parallel.decompose import Layout
+
+_TAG_HALO = 7
+
+
+class MPICommunicator:
+    """Reductions and halo exchanges of one decomposed run.
+
+    Parameters
+    ----------
+    comm : mpi4py communicator (``MPI.COMM_WORLD``).
+    layout : what this rank owns and holds as ghosts.
+
+    Attributes
+    ----------
+    rank, size : this rank, number of ranks.
+    owned : slice of the owned rows of every per-point array.
+    n_owned, n_global : owned points here, points of the whole body.
+    exchange_s : wall time spent in :meth:`exchange` (s), for the communication share.
+    """
+
+    def __init__(self, comm: Any, layout: Layout) -> None:
+        from mpi4py import MPI
+
+        self._mpi = MPI
+        self.comm = comm
+        self.layout = layout
+        self.rank = int(comm.Get_rank())
+        self.size = int(comm.Get_size())
+        self.n_owned = layout.n_owned
+        self.owned = slice(0, layout.n_owned)
+        self.n_global = int(layout.part.shape[0])
+        self.exchange_s = 0.0
+        self.exchanges = 0
+        counts = np.bincount(layout.part, minlength=self.size)
+        self._counts = counts.astype(np.int64)
+        self._displs = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int64)
+        # global order of the rank-by-rank concatenation of owned points
+        self._order = np.argsort(layout.part, kind="stable")
+
+    # -- reductions --------------------------------------------------------------------
+    def _reduce(self, value: float, op: Any) -> float:
+        buf = np.array([value], dtype=np.float64)
+        out = np.empty(1)
+        self.comm.Allreduce(buf, out, op=op)
+        return float(out[0])
+
+    def sum(self, value: float) -> float:
+        """Sum of ``value`` over all ranks."""
+        return self._reduce(float(value), self._mpi.SUM)
+
+    def min(self, value: float) -> float:
+        """Minimum of ``value`` over all ranks."""
+        return self._reduce(float(value), self._mpi.MIN)
+
+    def max(self, value: float) -> float:
+        """Maximum of ``value`` over all ranks."""
+        return self._reduce(float(value), self._mpi.MAX)
+
+    def sum_array(self, values: NDArray) -> NDArray:
+        """Element-wise sum of an array over all ranks (same shape on every rank)."""
+        a = np.ascontiguousarray(values, dtype=np.float64)
+        out = np.empty_like(a)
+        self.comm.Allreduce(a, out, op=self._mpi.SUM)
+        return out
+
+    def any(self, flag: bool) -> bool:
+        """True when ``flag`` is true on some rank."""
+        return self.max(1.0 if flag else 0.0) > 0.0
+
+    def bcast(self, obj: Any) -> Any:
+        """``obj`` of rank 0 on every rank."""
+        return self.comm.bcast(obj, root=0)
+
+    def barrier(self) -> None:
+        """Wait for every rank."""
+        self.comm.Barrier()
+
+    # -- halo ---------------------------------------------------------------------------
+    def exchange(self, field: NDArray) -> None:
+        """Fill the ghost rows of a per-point ``field`` (first axis = local points) from
+        their owners, in place."""
+        lay = self.layout
+        if not lay.recv and not lay.send:
+            return
+        t0 = time.perf_counter()
+        a = field.reshape(field.shape[0], -1)
+        if not a.flags.c_contiguous:
+            raise ValueError("exchange needs a C-contiguous per-point array")
+        requests = []
+        recv_bufs = {}
+        for q, rows in lay.recv.items():
+            buf = np.empty((len(rows), a.shape[1]), dtype=a.dtype)
+            recv_bufs[q] = buf
+            requests.append(self.comm.Irecv(buf, source=q, tag=_TAG_HALO))
+        send_bufs = []
+        for q, rows in lay.send.items():
+            buf = np.ascontiguousarray(a[rows])
+            send_bufs.append(buf)
+            requests.append(self.comm.Isend(buf, dest=q, tag=_TAG_HALO))
+        self._mpi.Request.Waitall(requests)
+        for q, rows in lay.recv.items():
+            a[rows] = recv_bufs[q]
+        self.exchange_s += time.perf_counter() - t0
+        self.exchanges += 1
+
+    # -- gathers -------------------------------------------------------------------------
+    def gather_points(self, field: NDArray) -> NDArray:
+        """The owned rows of a per-point ``field`` of every rank, in global point order,
+        on every rank: shape (n_global, ...) (``Allgatherv``; observers use it for the
+        analyses of a whole field)."""
+        own = np.ascontiguousarray(field[: self.n_owned])
+        tail = own.shape[1:]
+        width = int(np.prod(tail)) if tail else 1
+        flat = own.reshape(-1)
+        out = np.empty(self.n_global * width, dtype=own.dtype)
+        self.comm.Allgatherv(flat, [out, self._counts * width, self._displs * width, None])
+        by_rank = out.reshape((self.n_global, *tail))
+        glob = np.empty_like(by_rank)
+        glob[self._order] = by_rank
+        return glob
+
+    def gather_points_root(self, field: NDArray) -> NDArray | None:
+        """As :meth:`gather_points`, on rank 0 only (``Gatherv``); ``None`` elsewhere."""
+        own = np.ascontiguousarray(field[: self.n_owned])
+        tail = own.shape[1:]
+        width = int(np.prod(tail)) if tail else 1
+        if self.rank != 0:
+            self.comm.Gatherv(own.reshape(-1), None, root=0)
+            return None
+        out = np.empty(self.n_global * width, dtype=own.dtype)
+        self.comm.Gatherv(
+            own.reshape(-1), [out, self._counts * width, self._displs * width, None], root=0
+        )
+        by_rank = out.reshape((self.n_global, *tail))
+        glob = np.empty_like(by_rank)
+        glob[self._order] = by_rank
+        return glob
+
+    def gather_objects(self, obj: Any) -> list[Any]:
+        """``obj`` of every rank, in rank order, on every rank (pickled; small data)."""
+        return list(self.comm.allgather(obj))
+
+
+def build_exchange_lists(
+    comm: Any, layout_part: NDArray[np.int32], owned: NDArray[np.intp], ghosts: NDArray[np.intp]
+) -> tuple[dict[int, NDArray[np.intp]], dict[int, NDArray[np.intp]]]:
+    """The receive and send lists of a rank (local indices), agreed with one
+    ``alltoall`` of the ghost ids each rank needs from each owner."""
+    from peridynamics.parallel.decompose import receive_lists
+
+    size = int(comm.Get_size())
+    n_owned = len(owned)
+    recv = receive_lists(layout_part, ghosts, n_owned)
+    requests: list[Any] = [None] * size
+    for q, rows in recv.items():
+        requests[q] = ghosts[rows - n_owned]
+    wanted = comm.alltoall(requests)
+    send: dict[int, NDArray[np.intp]] = {}
+    for q, gids in enumerate(wanted):
+        if gids is None or len(gids) == 0:
+            continue
+        local = np.searchsorted(owned, gids)
+        if np.any(local >= n_owned) or np.any(owned[np.minimum(local, n_owned - 1)] != gids):
+            raise RuntimeError(f"rank {q} asked for points this rank does not own")
+        send[q] = local.astype(np.intp)
+    return recv, send

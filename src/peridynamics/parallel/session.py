@@ -1,0 +1,304 @@
+"""How a decomposed run talks to its observers: rank 0 runs them, the other ranks serve.
+
+Every rank steps its part of the body. After each step rank 0 runs the observers (the
+same code as a serial run) on a :class:`GlobalModel` and a :class:`GlobalState`: views
+of the whole body whose per-point fields are gathered from the ranks when an observer
+first reads them in that step (``Gatherv`` to rank 0), and whose bond quantities
+(damage, energies, bond counts, crack measures) are computed by every rank on its own
+bonds and reduced. Each request is broadcast by rank 0 (:meth:`Session.call`); the
+other ranks wait in :meth:`Session.serve` and answer it until rank 0 ends the step. All
+decisions that depend on observer results (stop, events) are taken by rank 0 alone, so
+the ranks cannot disagree and no observer needs to know it runs distributed.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from peridynamics.geometry.cloud import PointCloud
+from peridynamics.parallel.communicator import SERIAL
+from peridynamics.parallel.mpi import MPICommunicator
+from peridynamics.state import State
+
+#: State fields with one entry per directed bond (not gathered: bonds stay on their rank)
+BOND_FIELDS = ("intact", "interface_intact", "bond_kappa")
+
+
+class BondFlags:
+    """Stands for a rank-local per-bond array in the global views (``s.intact``,
+    ``model.bonds.bond_intact``): model methods of :class:`GlobalModel` accept it,
+    anything else that would index it fails loudly instead of reading wrong bonds."""
+
+    def __init__(self, which: str) -> None:
+        self.which = which
+
+    def __repr__(self) -> str:
+        return f"BondFlags({self.which!r})"
+
+
+class Session:
+    """The collective side of a decomposed run (one per rank).
+
+    Parameters
+    ----------
+    comm : the run's :class:`MPICommunicator`.
+    model : this rank's model (its part of the body).
+    global_cloud : the whole body (every rank builds it).
+    """
+
+    def __init__(self, comm: MPICommunicator, model: Any, global_cloud: PointCloud) -> None:
+        self.comm = comm
+        self.model = model
+        self.global_cloud = global_cloud
+        self.root = comm.rank == 0
+        self.state: State | None = None
+        self._handlers: dict[str, Callable[..., Any]] = {
+            "gather": self._gather,
+            "damage": self._damage,
+            "energies": lambda: self.model.state_energies(self._local()),
+            "bond_counts": self._bond_counts,
+            "sed_field": self._sed_field,
+            "attr": self._attr,
+            "crack": self._crack,
+            "broken_pairs": self._broken_pairs,
+            "call": self._callable,
+        }
+        self._meter: Any = None
+
+    # -- the protocol --------------------------------------------------------------------
+    def call(self, name: str, *args: Any) -> Any:
+        """Rank 0: run request ``name`` on every rank; its result (rank 0's part)."""
+        self.comm.comm.bcast((name, args), root=0)
+        return self._handlers[name](*args)
+
+    def end_step(self, payload: Any = None) -> Any:
+        """Rank 0: release the serving ranks; they return ``payload``."""
+        return self.comm.comm.bcast(("__end__", payload), root=0)[1]
+
+    def serve(self) -> Any:
+        """Ranks > 0: answer rank 0's requests until it ends the step; the payload."""
+        while True:
+            name, args = self.comm.comm.bcast(None, root=0)
+            if name == "__end__":
+                return args
+            self._handlers[name](*args)
+
+    def _local(self) -> State:
+        assert self.state is not None, "the session has no state yet"
+        return self.state
+
+    # -- handlers (every rank) ------------------------------------------------------------
+    def _to_root(self, field: NDArray) -> NDArray | None:
+        return self.comm.gather_points_root(field)
+
+    def _gather(self, name: str) -> NDArray | None:
+        return self._to_root(self._local()[name])
+
+    def _damage(self, initial: bool) -> NDArray | None:
+        m, s = self.model, self._local()
+        flags = m.bonds.bond_intact if initial else s.intact
+        return self._to_root(m.point_damage(flags, s.fields.get("interface_intact")))
+
+    def _bond_counts(self) -> tuple[float, float]:
+        """(bonds broken during the run, bonds) of the owned families, summed."""
+        m, s = self.model, self._local()
+        end = int(m.bonds.offsets[self.comm.n_owned])
+        failed = int(np.count_nonzero(m.bonds.bond_intact[:end])) - int(
+            np.count_nonzero(s.intact[:end])
+        )
+        return self.comm.sum(float(failed)), self.comm.sum(float(end))
+
+    def _sed_field(self, u_global: NDArray | None) -> NDArray | None:
+        u_global = self.comm.comm.bcast(u_global, root=0)
+        ids = self.model.cloud.global_ids
+        w = self.model.strain_energy_density(
+            np.ascontiguousarray(u_global[ids]), self.model.bonds.bond_intact
+        )
+        return self._to_root(w)
+
+    def _attr(self, name: str) -> NDArray | None:
+        return self._to_root(np.asarray(getattr(self.model, name)))
+
+    def _callable(self, fn: Callable[..., Any], *args: Any) -> Any:
+        return fn(self, *args)
+
+    def _crack(self, what: str, separating: bool) -> Any:
+        """Crack measures of the owned bonds: the sum ("measure") or, on rank 0, the
+        weights and midpoints of every counted bond ("weights")."""
+        from peridynamics.io.observers_cracks import all_intact, build_meter
+
+        m, s = self.model, self._local()
+        if self._meter is None:
+            self._meter = build_meter(m)
+        idx, w = self._meter.weights(all_intact(m, s), separating=separating)
+        keep = idx < int(m.bonds.offsets[self.comm.n_owned])
+        idx, w = idx[keep], w[keep]
+        if what == "measure":
+            return self.comm.sum(float(w.sum()))
+        parts = self.comm.comm.gather((self._meter.midpoints(idx), w), root=0)
+        if not self.root:
+            return None
+        mids = np.concatenate([p[0] for p in parts]).reshape(-1, m.dim)
+        return mids, np.concatenate([p[1] for p in parts])
+
+    def _broken_pairs(self) -> tuple[NDArray[np.intp], NDArray[np.intp]] | None:
+        m, s = self.model, self._local()
+        end = int(m.bonds.offsets[self.comm.n_owned])
+        b = m.bonds
+        k = np.flatnonzero(b.bond_intact[:end].astype(bool) & (s.intact[:end] == 0))
+        gid = m.cloud.global_ids
+        i = gid[b.bond_range("bond_i", 0, end)[k]] if end else np.zeros(0, np.int64)
+        j = gid[b.bond_j[k]]
+        parts = self.comm.comm.gather((i, j), root=0)
+        if not self.root:
+            return None
+        return (
+            np.concatenate([p[0] for p in parts]).astype(np.intp),
+            np.concatenate([p[1] for p in parts]).astype(np.intp),
+        )
+
+
+class _LazyFields(dict):  # type: ignore[type-arg]
+    """Fields of a :class:`GlobalState`: gathered from the ranks on first access."""
+
+    def __init__(self, session: Session, local: State) -> None:
+        super().__init__()
+        self._session = session
+        self._local = local
+
+    def __missing__(self, name: str) -> Any:
+        if name not in self._local.fields:
+            raise KeyError(name)
+        if name in BOND_FIELDS:
+            value: Any = BondFlags(name)
+        elif name == "friction_work":
+            value = np.array([self._session.call("call", _friction_sum)])
+        else:
+            value = self._session.call("gather", name)
+        self[name] = value
+        return value
+
+    def __contains__(self, name: object) -> bool:
+        return name in self._local.fields
+
+    def get(self, name: str, default: Any = None) -> Any:  # type: ignore[override]
+        return self[name] if name in self else default
+
+    def keys(self) -> Any:  # type: ignore[override]
+        return self._local.fields.keys()
+
+    def __iter__(self) -> Any:
+        return iter(self._local.fields)
+
+    def items(self) -> Any:  # type: ignore[override]
+        return [(k, self[k]) for k in self._local.fields]
+
+
+def _friction_sum(session: Session) -> float:
+    s = session._local()
+    return session.comm.sum(float(s["friction_work"][0]) if "friction_work" in s else 0.0)
+
+
+class GlobalState(State):
+    """The whole body's State as rank 0's observers see it (fields gathered lazily)."""
+
+    def __init__(self, session: Session, local: State, bonds_broken: int) -> None:
+        super().__init__(local.t, local.step, bonds_broken, local.phase)
+        self.fields = _LazyFields(session, local)
+
+    def copy(self) -> State:
+        """A plain State with every per-point field gathered."""
+        return State(
+            self.t,
+            self.step,
+            self.bonds_broken,
+            self.phase,
+            **{k: np.array(v) for k, v in self.fields.items() if not isinstance(v, BondFlags)},
+        )
+
+
+class _BondsView:
+    """What observers read of the bond list: totals over ranks, the horizon."""
+
+    def __init__(self, session: Session, n_bonds: int) -> None:
+        local = session.model.bonds
+        self.horizon = local.horizon
+        self.partial_volume = local.partial_volume
+        self.n_bonds = n_bonds
+        self.bond_intact = BondFlags("bond_intact")
+
+
+class GlobalModel:
+    """The whole body's model as rank 0's observers see it: the global cloud, serial
+    reductions over gathered arrays (``comm`` is serial: the arrays are global), and the
+    bond quantities computed by every rank on its own bonds."""
+
+    def __init__(self, session: Session, n_bonds: int) -> None:
+        self._session = session
+        self._local = session.model
+        self.cloud = session.global_cloud
+        self.comm = SERIAL
+        self.bonds = _BondsView(session, n_bonds)
+        part = session.comm.layout.part
+        order = np.argsort(part, kind="stable")
+        bounds = np.searchsorted(part[order], np.arange(session.comm.size + 1))
+        #: global ids of each rank's owned points (frames are written one piece per rank)
+        self.point_ranks = [order[bounds[r] : bounds[r + 1]] for r in range(session.comm.size)]
+
+    def __getattr__(self, name: str) -> Any:  # material, force_model, rigid, ...
+        return getattr(self._local, name)
+
+    @property
+    def dim(self) -> int:
+        return self.cloud.dim
+
+    @property
+    def n_points(self) -> int:
+        return self.cloud.n_points
+
+    @property
+    def point_s0(self) -> NDArray[np.float64]:
+        return self._session.call("attr", "point_s0")
+
+    @property
+    def density(self) -> NDArray[np.float64]:
+        return self._session.call("attr", "density")
+
+    def point_damage(self, intact: Any, interface_intact: Any = None) -> NDArray:
+        initial = isinstance(intact, BondFlags) and intact.which == "bond_intact"
+        return self._session.call("damage", initial)
+
+    def state_energies(self, s: State) -> tuple[float, float]:
+        return self._session.call("energies")
+
+    def bond_counts(self, s: State) -> tuple[float, float]:
+        """(bonds broken during the run, bonds), every rank's owned bonds."""
+        return self._session.call("bond_counts")
+
+    def strain_energy_density(self, u: NDArray, intact: Any) -> NDArray:
+        return self._session.call("sed_field", u)
+
+    def crack_measure(self, separating: bool = True) -> float:
+        """Broken-bond crack length (area) of the whole body."""
+        return self._session.call("crack", "measure", separating)
+
+    def crack_weights(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Midpoints (k, dim) and weights (k,) of every counted broken bond."""
+        return self._session.call("crack", "weights", True)
+
+    def broken_pairs(self) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+        """Global ids of the end points of the bonds broken during the run."""
+        return self._session.call("broken_pairs")
+
+    def section_stress(self, u: NDArray, intact: Any, position: float) -> float:
+        raise ValueError("section_stress probes are 1-D; 1-D runs are not decomposed")
+
+
+def rank_dir(out: Path, rank: int) -> Path:
+    """The folder of one rank's own files (checkpoint) inside a run's output folder."""
+    return Path(out) / "ranks" / f"rank{rank:04d}"
