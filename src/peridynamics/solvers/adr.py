@@ -422,12 +422,17 @@ class ADRSolver:
         v[:] = 0.0
         m.evaluate(s, commit=False)
         fprev[:] = f
-        b_free = np.where(free == 1, vol * b, 0.0)
-        load = float(np.sqrt(np.sum(b_free * b_free)))
+        comm = m.comm
+        k = len(u) if comm.n_owned is None else comm.n_owned * m.dim  # owned dofs
+        b_free = np.where(free[:k] == 1, vol[:k] * b[:k], 0.0)
+        load = math.sqrt(comm.sum(float(np.sum(b_free * b_free))))
         floor = max(floor, np.finfo(np.float64).tiny)
         it = 0
         while True:
-            adr_norms(u, v, f, fprev, b, vol, inv_lam, free, dt, sums)
+            adr_norms(u[:k], v[:k], f[:k], fprev[:k], b[:k], vol[:k], inv_lam[:k], free[:k],
+                      dt, sums)  # fmt: skip
+            if comm.size > 1:  # sums over every rank's owned dofs
+                sums[:] = comm.sum_array(sums)
             self._load_norm = max(load, math.sqrt(sums[1]))
             residual = math.sqrt(sums[0]) / max(self._load_norm, floor)
             if residual <= self.tolerance:
@@ -472,14 +477,15 @@ class ADRSolver:
             for _ in range(self.max_damage_rounds):
                 nb = self.model.commit_damage(s)
                 broken += nb
-                if nb == 0:
+                if self.model.comm.sum(float(nb)) == 0:
                     settled = True
                     break
                 iters, residual, converged = self.relax(s, floor)
                 iterations += iters
                 if not converged:
                     break
-            if converged and not settled and self.model.damage_law.trial(s) > 0:
+            more = self.model.damage_law.trial(s) > 0
+            if converged and not settled and self.model.comm.any(more):
                 events.append("damage_unsettled")  # more bonds would break at this load
         if not converged:
             events.append("not_converged")
@@ -505,8 +511,9 @@ class ADRSolver:
         """Raise :class:`SimulationUnstable` when the displacement or force is not finite
         (the fictitious density was too small, e.g. with stiff contact); else keep the
         state as the last good one."""
-        bad = ~(np.isfinite(s.u).all(axis=1) & np.isfinite(s.force).all(axis=1))
-        if bad.any():
+        own = self.model.comm.owned
+        bad = ~(np.isfinite(s.u[own]).all(axis=1) & np.isfinite(s.force[own]).all(axis=1))
+        if self.model.comm.any(bool(bad.any())):
             k = int(np.argmax(bad))
             coords = self.model.cloud.x[k].tolist()
             raise SimulationUnstable(
