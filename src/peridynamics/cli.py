@@ -339,6 +339,13 @@ def _run_comm() -> Any:
         _err(f"error: {exc}")
         return False
     share_cores(comm)
+    if comm is not None:  # an error on one rank must not leave the others waiting
+
+        def abort(kind: Any, value: Any, tb: Any) -> None:
+            sys.__excepthook__(kind, value, tb)
+            comm.Abort(1)
+
+        sys.excepthook = abort
     return comm
 
 

@@ -252,7 +252,9 @@ class Bonds:
         key = self.bond_i.astype(np.int64) * n + self.bond_j
         rkey = self.bond_j.astype(np.int64) * n + self.bond_i
         if len(key) < 2 or bool(np.all(key[1:] > key[:-1])):
-            return np.searchsorted(key, rkey)  # keys sorted by construction (serial)
+            got = np.searchsorted(key, rkey)  # keys sorted by construction (serial)
+            if bool(np.all(got < len(key))) and np.array_equal(key[got], rkey):
+                return got
         # a rank's list (families in global-id order, ghosts of the second layer
         # without a family): look up through a sort; a bond whose reverse is not held
         # here points to itself (only ghost families have such bonds)

@@ -1,0 +1,165 @@
+"""``mpiexec -n 2 peridynamics run``: the decomposed run gives the serial run's fields bit
+for bit (explicit dynamics: PMB crack branching; SED softening + Weibull + contact; LPS),
+resumes after one rank dies, and refuses what it cannot do with the key to change."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+EXAMPLES = ROOT / "examples"
+
+
+def _mpiexec() -> tuple[str | None, str]:
+    """The mpiexec to use (beside this Python first, then on PATH), or why there is none."""
+    try:
+        import mpi4py  # noqa: F401
+    except ImportError:
+        return None, "mpi4py cannot be imported (pip install '.[mpi]')"
+    here = Path(sys.executable).parent / "mpiexec"
+    found = str(here) if here.is_file() else shutil.which("mpiexec")
+    return found, "no mpiexec beside sys.executable or on PATH (pip install '.[mpi]')"
+
+
+MPIEXEC, WHY = _mpiexec()
+pytestmark = pytest.mark.skipif(MPIEXEC is None, reason=WHY)
+
+BRANCHING = [
+    str(EXAMPLES / "crack_branching_2d" / "deck.yaml"),
+    "--set", "discretisation.spacing=5e-4",
+    "--set", "solver.end_time=16e-6",
+    "--set", "output.plot=none",
+]  # fmt: skip
+ROCK = [
+    str(EXAMPLES / "rock_compression" / "flaw45.yaml"),
+    "--set", "discretisation.spacing=1e-3",
+    "--set", "solver.steps=500",
+    "--set", "output.plot=none",
+]  # fmt: skip
+
+LPS_DECK = """
+name: lps_explicit
+geometry: {type: rectangle, size: [0.02, 0.01], thickness: 1.0e-3, plane: stress}
+discretisation: {spacing: 5.0e-4, horizon_factor: 3.015}
+material: {model: lps, youngs_modulus: 70.0e9, density: 2700.0, poisson_ratio: 0.3}
+damage: {model: critical_stretch, critical_stretch: 2.0e-3}
+node_sets:
+  left: {edge: {normal: [-1.0, 0.0]}}
+  right: {edge: {normal: [1.0, 0.0]}}
+boundary_conditions:
+  - {type: velocity, set: right, components: {x: 5.0}}
+  - {type: velocity, set: left, components: {x: -5.0}}
+solver: {type: explicit, steps: 300, safety_factor: 0.8}
+output:
+  history_every: 20
+  plot: none
+  probes:
+    - {name: right_ux, quantity: displacement, set: right, component: x}
+"""
+
+
+def _run(*args: str, ranks: int = 1, env: dict[str, str] | None = None, timeout: int = 180):
+    """``[mpiexec -n RANKS] python -m peridynamics run ARGS`` on the source tree."""
+    e = dict(os.environ, NUMBA_NUM_THREADS="1", **(env or {}))
+    e["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT / "src"), e.get("PYTHONPATH")]))
+    launch = [str(MPIEXEC), "-n", str(ranks)] if ranks > 1 else []
+    return subprocess.run(
+        [*launch, sys.executable, "-m", "peridynamics", "run", *args, "--quiet"],
+        capture_output=True, text=True, env=e, timeout=timeout,
+    )  # fmt: skip
+
+
+def _close(a: object, b: object, path: str = "results") -> list[str]:
+    """Entries of two results mappings that differ by more than 1e-12 (relative)."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        out = [f"{path}.{k}: missing" for k in set(a) ^ set(b)]
+        for k in set(a) & set(b):
+            out += _close(a[k], b[k], f"{path}.{k}")
+        return out
+    if isinstance(a, list) and isinstance(b, list):
+        if len(a) != len(b):
+            return [f"{path}: lengths {len(a)} != {len(b)}"]
+        return [
+            d
+            for k, (p, q) in enumerate(zip(a, b, strict=True))
+            for d in _close(p, q, f"{path}[{k}]")
+        ]
+    if isinstance(a, float) and isinstance(b, (int, float)):
+        ok = a == b or abs(a - b) <= 1e-12 * max(abs(a), abs(b))
+        return [] if ok else [f"{path}: {a} != {b}"]
+    return [] if a == b else [f"{path}: {a!r} != {b!r}"]
+
+
+def _same_run(serial: Path, mpi: Path) -> None:
+    fs, fm = np.load(serial / "final_state.npz"), np.load(mpi / "final_state.npz")
+    for k in ("u", "v", "damage", "x"):
+        np.testing.assert_array_equal(fm[k], fs[k], err_msg=k)  # bit for bit
+    bs, bm = np.load(serial / "bonds.npz"), np.load(mpi / "bonds.npz")
+    for k in ("i", "j", "length_m", "intact", "initially_intact"):
+        np.testing.assert_array_equal(bm[k], bs[k], err_msg=k)
+    rs = json.loads((serial / "summary.json").read_text())["results"]
+    rm = json.loads((mpi / "summary.json").read_text())["results"]
+    # sums over points and bonds (energies, crack length) add in another order: 1e-12
+    assert _close(rs, rm) == []
+
+
+@pytest.mark.parametrize("case", ["branching", "rock"])
+def test_two_ranks_give_the_serial_run(tmp_path: Path, case: str) -> None:
+    args = BRANCHING if case == "branching" else ROCK
+    serial = _run(*args, "--out", str(tmp_path / "s"))
+    assert serial.returncode == 0, serial.stderr
+    mpi = _run(*args, "--out", str(tmp_path / "m"), ranks=2)
+    assert mpi.returncode == 0, mpi.stderr
+    _same_run(tmp_path / "s", tmp_path / "m")
+    summary = json.loads((tmp_path / "m" / "summary.json").read_text())
+    assert summary["timing"]["ranks"] == 2
+    # frames: one piece per rank joined by a .pvtu, listed in the .pvd series
+    pvtu = sorted((tmp_path / "m").glob("frame_*.pvtu"))
+    assert pvtu and len(list((tmp_path / "m").glob("frame_*_p000[01].vtu"))) == 2 * len(pvtu)
+    pvd = next((tmp_path / "m").glob("*.pvd")).read_text()
+    assert all(p.name in pvd for p in pvtu)
+
+
+def test_two_ranks_lps(tmp_path: Path) -> None:
+    deck = tmp_path / "lps.yaml"
+    deck.write_text(LPS_DECK)
+    assert _run(str(deck), "--out", str(tmp_path / "s")).returncode == 0
+    mpi = _run(str(deck), "--out", str(tmp_path / "m"), ranks=2)
+    assert mpi.returncode == 0, mpi.stderr
+    _same_run(tmp_path / "s", tmp_path / "m")
+    assert json.loads((tmp_path / "m" / "summary.json").read_text())["results"]["bonds_broken"] > 0
+
+
+def test_a_killed_rank_resumes_to_the_same_result(tmp_path: Path) -> None:
+    whole = _run(*ROCK, "--out", str(tmp_path / "whole"), ranks=2)
+    assert whole.returncode == 0, whole.stderr
+    out = str(tmp_path / "cut")
+    crash = {"PERIDYNAMICS_CRASH_AT_STEP": "230", "PERIDYNAMICS_CRASH_RANK": "1"}
+    died = _run(*ROCK, "--out", out, "--checkpoint-every", "100", ranks=2, env=crash)
+    assert died.returncode != 0
+    marker = json.loads((tmp_path / "cut" / "checkpoint_mpi.json").read_text())
+    assert marker["step"] == 200 and marker["ranks"] == 2
+    other = _run(ROCK[0], *ROCK[1:], "--resume", out, ranks=3)
+    assert other.returncode == 2 and "mpiexec -n 2" in other.stderr
+    resumed = _run(ROCK[0], *ROCK[1:], "--resume", out, ranks=2)
+    assert resumed.returncode == 0, resumed.stderr
+    a = np.load(tmp_path / "whole" / "final_state.npz")
+    b = np.load(tmp_path / "cut" / "final_state.npz")
+    for k in ("u", "v", "damage"):
+        np.testing.assert_array_equal(b[k], a[k], err_msg=k)
+
+
+def test_static_solver_is_refused_with_its_key(tmp_path: Path) -> None:
+    yaml = EXAMPLES / "micropolar" / "cantilever.yaml"  # solver.type: static
+    got = _run(str(yaml), "--out", str(tmp_path / "x"), ranks=2)
+    assert got.returncode == 2
+    assert "solver.type" in got.stderr and "one rank" in got.stderr
+    assert got.stderr.count("solver.type") == 1  # rank 0 speaks once
