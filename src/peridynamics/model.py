@@ -314,12 +314,15 @@ class Model:
 
     def exchange_dofs(self, state: State) -> None:
         """Halo exchange of what the force pass reads: u, v and further dof groups."""
-        comm = self.comm
-        comm.exchange(state.u)
-        comm.exchange(state.v)
+        fields = [state.u, state.v]
         for dof in self.force_model.dofs()[1:]:
-            comm.exchange(state[dof.value])
-            comm.exchange(state[dof.rate])
+            fields += [state[dof.value], state[dof.rate]]
+        pack = getattr(self.comm, "exchange_fields", None)
+        if pack is not None:  # one message per neighbour rank
+            pack(fields)
+        else:
+            for f in fields:
+                self.comm.exchange(f)
 
     def _owned_broken(self, state: State, broken: int) -> int:
         """Bonds of owned points broken by this evaluation (the ghosts of the first layer

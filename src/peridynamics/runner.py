@@ -939,12 +939,20 @@ class Simulation:
         under MPI, the other ranks serving; they return an empty mapping)."""
         got: dict[str, Any] = {}
         total = self._sync(s, 0, False)[1]
-        exchange = None
-        if self.session is not None:  # the halo time of the slowest rank
-            exchange = self.session.comm.max(self.session.comm.exchange_s)
+        ranks: dict[str, Any] | None = None
+        if self.session is not None:  # the halo time of the slowest rank, memory per rank
+            comm = self.session.comm
+            ranks = {
+                "ranks": comm.size,
+                "halo_exchange_s": comm.max(comm.exchange_s),
+                "halo_exchanges": comm.exchanges,
+                "peak_rss_gib_per_rank": comm.gather_objects(_peak_rss_gib()),
+                "points_per_rank": comm.gather_objects(comm.n_owned),
+                "ghosts_per_rank": comm.gather_objects(comm.layout.n_local - comm.n_owned),
+            }
 
         def finish(v: State) -> None:
-            got.update(self._finish_root(ctx, v, observers, wall, steps, work, error, exchange))
+            got.update(self._finish_root(ctx, v, observers, wall, steps, work, error, ranks))
 
         self._observe(s, ctx, finish, total)
         return got
@@ -958,7 +966,7 @@ class Simulation:
         steps: int,
         work: int,
         error: str | None,
-        exchange_s: float | None = None,
+        ranks: dict[str, Any] | None = None,
     ) -> dict:
         m = ctx.model
         damage = ctx.damage(s)
@@ -1017,9 +1025,8 @@ class Simulation:
         }
         if work != steps:  # a static solver: iterations per step vary
             timing["iterations"] = work
-        if self.session is not None:
-            timing["ranks"] = self.session.comm.size
-            timing["halo_exchange_s"] = exchange_s
+        if ranks is not None:  # a decomposed run
+            timing.update(ranks)
         extra: dict[str, Any] = {"status": ctx.status, "files": files}
         if error:
             extra["error"] = error
@@ -1030,6 +1037,13 @@ class Simulation:
             timing,
             extra,
         )
+
+
+def _peak_rss_gib() -> float:
+    """Peak resident memory of this process (GiB; Linux reports kB)."""
+    import resource
+
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20
 
 
 def _on_step(observers: list[Observer], ctx: RunContext, result: Any, s: State) -> None:

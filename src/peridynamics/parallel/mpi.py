@@ -97,27 +97,40 @@ class MPICommunicator:
     def exchange(self, field: NDArray) -> None:
         """Fill the ghost rows of a per-point ``field`` (first axis = local points) from
         their owners, in place."""
+        self.exchange_fields([field])
+
+    def exchange_fields(self, fields: list[NDArray]) -> None:
+        """:meth:`exchange` of several per-point fields of one dtype in one message per
+        neighbour rank (their columns side by side)."""
         lay = self.layout
         if not lay.recv and not lay.send:
             return
         t0 = time.perf_counter()
-        a = field.reshape(field.shape[0], -1)
-        if not a.flags.c_contiguous:
-            raise ValueError("exchange needs a C-contiguous per-point array")
+        flat = [f.reshape(f.shape[0], -1) for f in fields]
+        if any(not a.flags.c_contiguous for a in flat):
+            raise ValueError("exchange needs C-contiguous per-point arrays")
+        widths = [a.shape[1] for a in flat]
+        cuts = np.cumsum([0, *widths])
+        dtype = np.result_type(*[a.dtype for a in flat])
         requests = []
         recv_bufs = {}
         for q, rows in lay.recv.items():
-            buf = np.empty((len(rows), a.shape[1]), dtype=a.dtype)
+            buf = np.empty((len(rows), int(cuts[-1])), dtype=dtype)
             recv_bufs[q] = buf
             requests.append(self.comm.Irecv(buf, source=q, tag=_TAG_HALO))
         send_bufs = []
         for q, rows in lay.send.items():
-            buf = np.ascontiguousarray(a[rows])
+            buf = (
+                np.concatenate([a[rows] for a in flat], axis=1)
+                if len(flat) > 1
+                else (np.ascontiguousarray(flat[0][rows]))
+            )
             send_bufs.append(buf)
             requests.append(self.comm.Isend(buf, dest=q, tag=_TAG_HALO))
         self._mpi.Request.Waitall(requests)
         for q, rows in lay.recv.items():
-            a[rows] = recv_bufs[q]
+            for k, a in enumerate(flat):
+                a[rows] = recv_bufs[q][:, cuts[k] : cuts[k + 1]]
         self.exchange_s += time.perf_counter() - t0
         self.exchanges += 1
 
