@@ -139,10 +139,9 @@ def _table_normals(dim: int) -> tuple[NDArray[np.float64], tuple[int, ...]]:
     return n, (kp, ka)
 
 
-def _interior_sample(bonds: Bonds, s: NDArray, dim: int) -> NDArray[np.intp]:
-    """Points with a full, balanced family (a sample of them): the largest families
-    (>= 97 % of the 90th percentile of S_i) whose first moment |sum xi| is under 5 % of
-    S_i (points near a free surface have a lopsided family)."""
+def family_first_moment(bonds: Bonds, s: NDArray, dim: int) -> NDArray[np.float64]:
+    """|sum_j xi_ij| of every point's family, shape (len(s),) (m): 0 for a balanced
+    family, large for a point near a free surface."""
     first = np.stack(
         [
             np.bincount(bonds.bond_i, weights=bonds.bond_xi[:, k], minlength=len(s))
@@ -150,16 +149,38 @@ def _interior_sample(bonds: Bonds, s: NDArray, dim: int) -> NDArray[np.intp]:
         ],
         axis=1,
     )
-    lopsided = np.sqrt(np.einsum("ij,ij->i", first, first))
+    return np.sqrt(np.einsum("ij,ij->i", first, first))
+
+
+def pick_interior(
+    s: NDArray, lopsided: NDArray, family_size: NDArray, dim: int
+) -> NDArray[np.intp]:
+    """Points with a full, balanced family (a sample of them): the largest families
+    (>= 97 % of the 90th percentile of S_i) whose first moment |sum xi| is under 5 % of
+    S_i (points near a free surface have a lopsided family)."""
     full = (s >= 0.97 * np.percentile(s, 90.0)) & (lopsided <= 0.05 * s)
     pts = np.flatnonzero(full)
     if pts.size == 0:
         pts = np.array([int(np.argmax(s))])
-    per = max(1.0, float(np.median(bonds.family_size[pts])))
+    per = max(1.0, float(np.median(family_size[pts])))
     take = max(1, int(_MAX_TABLE_BONDS[dim] / per))
     if pts.size > take:
         pts = pts[np.linspace(0, pts.size - 1, take).astype(np.intp)]
     return pts
+
+
+def _interior_sample(bonds: Bonds, s: NDArray, dim: int) -> NDArray[np.intp]:
+    """:func:`pick_interior` of a bond list."""
+    return pick_interior(s, family_first_moment(bonds, s, dim), bonds.family_size, dim)
+
+
+def orientation_table(xi: NDArray[np.float64], spacing: float, dim: int) -> NDArray[np.float64]:
+    """The orientation factor table of interior families whose bond vectors are ``xi``
+    (k, dim), each distinct vector once with its count."""
+    key = np.rint(xi / (1e-6 * spacing)).astype(np.int64)
+    _, first, counts = np.unique(key, axis=0, return_index=True, return_counts=True)
+    normals, shape = _table_normals(dim)
+    return orientation_factor(xi[first], normals, counts).reshape(shape)
 
 
 @dataclass(frozen=True)
@@ -208,7 +229,13 @@ class CrackMeter:
     step: float
 
     @classmethod
-    def from_bonds(cls, cloud: PointCloud, bonds: Bonds, extra: Sequence[Bonds] = ()) -> CrackMeter:
+    def from_bonds(
+        cls,
+        cloud: PointCloud,
+        bonds: Bonds,
+        extra: Sequence[Bonds] = (),
+        table: NDArray[np.float64] | None = None,
+    ) -> CrackMeter:
         """Per-point weights and the orientation table of a model's bonds.
 
         Parameters
@@ -221,6 +248,10 @@ class CrackMeter:
         extra : sequence of Bonds
             Further bond lists over the same points, appended after ``bonds`` (the
             interface bonds of a model with several bodies).
+        table : ndarray, optional
+            The orientation table (a decomposed run makes it from the whole body's
+            interior families, :mod:`peridynamics.parallel.session`); else made from
+            ``bonds``.
         """
         dim = cloud.dim
         if dim not in (2, 3):
@@ -240,14 +271,11 @@ class CrackMeter:
             if not extra
             else np.bincount(bonds.bond_i, weights=bonds.bond_length, minlength=cloud.n_points)
         )
-        chosen = np.zeros(cloud.n_points, dtype=bool)
-        chosen[_interior_sample(bonds, s_own, dim)] = True
-        xi = bonds.bond_xi[chosen[bonds.bond_i]]
-        # identical bond vectors (a regular grid) once, with their count
-        key = np.rint(xi / (1e-6 * cloud.spacing)).astype(np.int64)
-        _, first, counts = np.unique(key, axis=0, return_index=True, return_counts=True)
-        normals, shape = _table_normals(dim)
-        table = orientation_factor(xi[first], normals, counts).reshape(shape)
+        if table is None:
+            chosen = np.zeros(cloud.n_points, dtype=bool)
+            chosen[_interior_sample(bonds, s_own, dim)] = True
+            # identical bond vectors (a regular grid) once, with their count
+            table = orientation_table(bonds.bond_xi[chosen[bonds.bond_i]], cloud.spacing, dim)
         return cls(
             dim=dim,
             x=cloud.x,

@@ -61,10 +61,11 @@ def all_intact(model: Model, s: State) -> NDArray[np.uint8]:
     return s.intact
 
 
-def build_meter(model: Model) -> CrackMeter:
-    """The crack meter of a model (its bonds and those of its bonded interfaces)."""
+def build_meter(model: Model, table: NDArray[np.float64] | None = None) -> CrackMeter:
+    """The crack meter of a model (its bonds and those of its bonded interfaces);
+    ``table``: its orientation table when made elsewhere (a decomposed run)."""
     extra = [f.bonds for f in _interfaces(model)]
-    return CrackMeter.from_bonds(model.cloud, model.bonds, extra)
+    return CrackMeter.from_bonds(model.cloud, model.bonds, extra, table)
 
 
 class CrackLength(Observer):

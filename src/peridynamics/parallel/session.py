@@ -134,7 +134,7 @@ class Session:
 
         m, s = self.model, self._local()
         if self._meter is None:
-            self._meter = build_meter(m)
+            self._meter = build_meter(m, self._orientation_table())
         idx, w = self._meter.weights(all_intact(m, s), separating=separating)
         keep = idx < int(m.bonds.offsets[self.comm.n_owned])
         idx, w = idx[keep], w[keep]
@@ -145,6 +145,37 @@ class Session:
             return None
         mids = np.concatenate([p[0] for p in parts]).reshape(-1, m.dim)
         return mids, np.concatenate([p[1] for p in parts])
+
+    def _orientation_table(self) -> NDArray[np.float64]:
+        """The crack meter's orientation table from the whole body's interior families,
+        as a serial run makes it (the same sample, the same bond order)."""
+        from peridynamics.analysis.crack_length import (
+            family_first_moment,
+            orientation_table,
+            pick_interior,
+        )
+
+        m, comm = self.model, self.comm
+        b, dim, n_own = m.bonds, m.dim, comm.n_owned
+        s = np.bincount(b.bond_i, weights=b.bond_length, minlength=b.n_points)
+        lop = family_first_moment(b, s, dim)
+        whole = [self._to_root(a) for a in (s, lop, b.family_size)]
+        pts = None
+        if self.root:
+            pts = pick_interior(whole[0], whole[1], whole[2], dim)  # type: ignore[arg-type]
+        pts = comm.comm.bcast(pts, root=0)
+        gid = m.cloud.global_ids
+        chosen = np.zeros(b.n_points, dtype=bool)
+        chosen[:n_own] = np.isin(gid[:n_own], pts)
+        k = np.flatnonzero(chosen[b.bond_i])
+        parts = comm.comm.gather((gid[b.bond_i[k]], b.bond_xi[k]), root=0)
+        table = None
+        if self.root:
+            owner = np.concatenate([p[0] for p in parts])
+            xi = np.concatenate([p[1] for p in parts]).reshape(-1, dim)
+            order = np.argsort(owner, kind="stable")  # families in global order
+            table = orientation_table(xi[order], m.cloud.spacing, dim)
+        return comm.comm.bcast(table, root=0)
 
     def _broken_pairs(self) -> tuple[NDArray[np.intp], NDArray[np.intp]] | None:
         m, s = self.model, self._local()
