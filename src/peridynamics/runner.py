@@ -946,7 +946,6 @@ class Simulation:
                 "ranks": comm.size,
                 "halo_exchange_s": comm.max(comm.exchange_s),
                 "halo_exchanges": comm.exchanges,
-                "peak_rss_gib_per_rank": comm.gather_objects(_peak_rss_gib()),
                 "points_per_rank": comm.gather_objects(comm.n_owned),
                 "ghosts_per_rank": comm.gather_objects(comm.layout.n_local - comm.n_owned),
             }
@@ -1015,6 +1014,8 @@ class Simulation:
         files: list[str] = []
         for ob in observers:
             files += ob.finalize(ctx, s, results)
+        if ranks is not None and self.session is not None:  # the peak after every output
+            ranks["peak_rss_gib_per_rank"] = self.session.call("call", _gather_rss)
         n_b = m.bonds.n_bonds
         timing: dict[str, Any] = {
             "wall_s": wall,
@@ -1044,6 +1045,11 @@ def _peak_rss_gib() -> float:
     import resource
 
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20
+
+
+def _gather_rss(session: Any) -> list[float]:
+    """Peak resident memory of every rank (GiB), in rank order."""
+    return list(session.comm.gather_objects(_peak_rss_gib()))
 
 
 def _on_step(observers: list[Observer], ctx: RunContext, result: Any, s: State) -> None:

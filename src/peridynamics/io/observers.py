@@ -636,24 +636,51 @@ class BondList(Observer):
         self.model = model
 
     def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
-        if ctx.session is not None:  # every rank's owned bonds, in global ids, on rank 0
-            joined = ctx.session.call("call", _gathered_half_bonds)
-        else:
-            joined = half_bonds(self.model.bonds, s.intact)
-        b, cloud = self.model.bonds, self.model.cloud
+        if ctx.session is not None:  # every rank writes its owned bonds (global ids)
+            return ctx.session.call("call", _write_rank_bonds, str(ctx.out))
         path = ctx.out / "bonds.npz"
-        np.savez(
-            path,
-            i=joined["i"].astype(np.int32),
-            j=joined["j"].astype(np.int32),
-            length_m=joined["length_m"].astype(np.float64),
-            intact=joined["intact"].astype(np.uint8),
-            initially_intact=joined["ini"].astype(np.uint8),
-            x_m=cloud.x,
-            volume_m3=cloud.volume,
-            horizon_m=np.float64(b.horizon),
-        )
+        _save_bonds(path, half_bonds(self.model.bonds, s.intact), self.model)
         return [path.name]
+
+
+def _save_bonds(path: Path, table: dict[str, NDArray], model: Any) -> None:
+    """``bonds.npz`` of a bond table (:func:`half_bonds`)."""
+    cloud = model.cloud
+    np.savez(
+        path,
+        i=table["i"].astype(np.int32),
+        j=table["j"].astype(np.int32),
+        length_m=table["length_m"].astype(np.float64),
+        intact=table["intact"].astype(np.uint8),
+        initially_intact=table["ini"].astype(np.uint8),
+        x_m=cloud.x,
+        volume_m3=cloud.volume,
+        horizon_m=np.float64(model.bonds.horizon),
+    )
+
+
+def read_bonds(folder: str | Path) -> dict[str, NDArray]:
+    """The bond table of a run folder (``bonds.npz``; under MPI the per-rank files
+    ``ranks/rankNNNN/bonds.npz`` joined), each bond once, sorted by (i, j): the same
+    arrays whichever way the run was made."""
+    folder = Path(folder)
+    if (folder / "bonds.npz").exists():
+        with np.load(folder / "bonds.npz") as f:
+            return {k: f[k] for k in f.files}
+    files = sorted(folder.glob("ranks/rank*/bonds.npz"))
+    if not files:
+        raise FileNotFoundError(f"no bonds.npz in {str(folder)!r} (output.bonds off?)")
+    parts = []
+    for p in files:
+        with np.load(p) as f:
+            parts.append({k: f[k] for k in f.files})
+    keys = ("i", "j", "length_m", "intact", "initially_intact")
+    out = {k: np.concatenate([p[k] for p in parts]) for k in keys}
+    order = np.lexsort((out["j"], out["i"]))
+    out = {k: v[order] for k, v in out.items()}
+    for k in ("x_m", "volume_m3", "horizon_m"):
+        out[k] = parts[0][k]
+    return out
 
 
 def half_bonds(
@@ -682,18 +709,28 @@ def half_bonds(
     return {k: np.concatenate(v) if v else np.zeros(0) for k, v in parts.items()}
 
 
-def _gathered_half_bonds(session: Any) -> dict[str, NDArray] | None:
-    """Every rank: its owned half bonds in global ids; rank 0: all of them, in the
-    order of a serial run's bonds.npz (sorted by i, then j)."""
-    m, s = session.model, session.state
-    end = int(m.bonds.offsets[session.comm.n_owned])
-    mine = half_bonds(m.bonds, s.intact, end, m.cloud.global_ids)
-    parts = session.comm.comm.gather(mine, root=0)
-    if not session.root:
-        return None
-    joined = {k: np.concatenate([p[k] for p in parts]) for k in mine}
-    order = np.lexsort((joined["j"], joined["i"]))
-    return {k: v[order] for k, v in joined.items()}
+def _write_rank_bonds(session: Any, out: str) -> list[str]:
+    """Every rank: ``ranks/rankNNNN/bonds.npz`` of its owned bonds, each once, in global
+    ids (with the whole body's points: :func:`read_bonds` joins them); the names."""
+    from peridynamics.parallel.session import rank_dir
+
+    m, s, comm = session.model, session.state, session.comm
+    end = int(m.bonds.offsets[comm.n_owned])
+    folder = rank_dir(Path(out), comm.rank)
+    folder.mkdir(parents=True, exist_ok=True)
+    table = half_bonds(m.bonds, s.intact, end, m.cloud.global_ids)
+    _save_bonds(folder / "bonds.npz", table, _WholeBody(session))
+    names = comm.gather_objects(str((folder / "bonds.npz").relative_to(out)))
+    return names if session.root else []
+
+
+class _WholeBody:
+    """The whole body's points and the horizon (what a bonds file stores beside the
+    bonds)."""
+
+    def __init__(self, session: Any) -> None:
+        self.cloud = session.global_cloud
+        self.bonds = session.model.bonds
 
 
 def observers_for(deck: dk.Deck, model: Model, hybrid: bool, checkpoint_every: int) -> list:

@@ -17,7 +17,7 @@ padded to 3 components.
 
 References
 ----------
-.. [1] Kitware, "VTK File Formats", in *The VTK User's Guide*, 11th ed., Section 19.3:
+.. [1] Kitware, "VTK File Formats", in *The VTK User's Guide*, 11th ed., section
    "XML File Formats", subsection "Parallel File Formats" (the PUnstructuredGrid file
    with its ``PPointData``, ``PPoints`` and ``Piece`` elements). Online:
    https://docs.vtk.org/en/latest/vtk_file_formats/vtkxml_file_format.html
