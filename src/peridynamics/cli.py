@@ -109,9 +109,12 @@ def _human_time(seconds: float) -> str:
     return f"{seconds:.3g} s"
 
 
-def _size_problem(deck: Any, allow_large: bool, n_points: float | None = None) -> str | None:
+def _size_problem(
+    deck: Any, allow_large: bool, n_points: float | None = None, share: float = 1.0
+) -> str | None:
     """Why the model is too large for this machine (``None`` when it fits, when the size
-    cannot be estimated yet, or with ``allow_large``)."""
+    cannot be estimated yet, or with ``allow_large``). ``share``: the part of the model
+    this machine holds (under MPI: its ranks / all ranks)."""
     from peridynamics.io.deck import estimate_size
 
     est = estimate_size(deck, n_points)
@@ -120,7 +123,7 @@ def _size_problem(deck: Any, allow_large: bool, n_points: float | None = None) -
     avail, source = available_memory()
     if est.points >= 2**31 - 1:
         why = "more points than the 32-bit point index holds"
-    elif est.bytes > avail:
+    elif est.bytes * share > avail:
         why = f"more than the {avail / 1e9:.3g} GB available ({source})"
     else:
         return None
@@ -263,10 +266,16 @@ def cmd_run(args: argparse.Namespace) -> int:
         return EXIT_INVALID
     rank = 0 if comm is None else int(comm.Get_rank())
     quiet = args.quiet or rank != 0  # under mpiexec rank 0 speaks
+    share = 1.0
+    if comm is not None:  # the ranks on this machine hold their part of the model
+        from peridynamics.parallel.launch import node_ranks
+
+        share = node_ranks(comm) / comm.Get_size()
     try:
-        problem = _size_problem(deck, args.allow_large)
+        problem = _size_problem(deck, args.allow_large, share=share)
         if problem is None and isinstance(deck.geometry, MeshGeometry):
-            problem = _size_problem(deck, args.allow_large, build_cloud(deck).n_points)
+            n = build_cloud(deck).n_points
+            problem = _size_problem(deck, args.allow_large, n, share)
         if problem:
             return _refuse(problem) if rank == 0 else EXIT_INVALID
         sim = Simulation.from_deck(deck, comm)
