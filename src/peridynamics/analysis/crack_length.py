@@ -65,7 +65,7 @@ on one side, m_i and m_j alike). On a clean cut every broken bond separates.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Literal
 
@@ -349,6 +349,7 @@ class CrackMeter:
         orientation: Orientation = "local",
         separating: bool = True,
         normal: ArrayLike | None = None,
+        exchange: Callable[[NDArray], None] | None = None,
     ) -> tuple[NDArray[np.intp], NDArray[np.float64]]:
         """Directed bonds broken during the run that make the crack, and the crack
         length (area) each stands for.
@@ -370,6 +371,9 @@ class CrackMeter:
         normal : array_like, shape (dim,), optional
             One crack normal for every bond (a known straight crack); overrides
             ``orientation``.
+        exchange : callable, optional
+            Fills the ghost rows of a per-point array from their owners (a decomposed
+            run: :meth:`peridynamics.parallel.mpi.MPICommunicator.exchange`).
 
         Returns
         -------
@@ -383,8 +387,13 @@ class CrackMeter:
             raise ValueError(f"orientation must be 'local' or 'average', got {orientation!r}")
         gone = self._gone(intact)
         idx = gone[self.initially_intact[gone]]
-        if idx.size and (separating or (orientation == "local" and normal is None)):
+        m = None
+        if exchange is not None:  # collective: every rank, ghosts get their owners' m
             m = self.crack_vectors(intact, gone)
+            exchange(m)
+        if idx.size and (separating or (orientation == "local" and normal is None)):
+            if m is None:
+                m = self.crack_vectors(intact, gone)
             mi, mj = m[self.bond_i[idx]], m[self.bond_j[idx]]
             if separating:
                 keep = np.einsum("ij,ij->i", mi, mj) <= 0.0

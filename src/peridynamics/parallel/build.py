@@ -43,6 +43,16 @@ def _refuse(deck: dk.Deck, size: int) -> None:
         raise SetupError("material.model", f"micropolar runs are not distributed; {how}")
 
 
+def ghost_families(deck: dk.Deck, cloud: Any) -> bool:
+    """Whether the first ghost layer needs its bond families on the rank: for every
+    model whose force pass reads, at the far end of a bond, a quantity made from that
+    point's own family (LPS dilatation, correspondence force state, SED levels, the
+    moment surface correction of irregular clouds); not for plain bond-based PMB, which
+    reads only u and v there (one layer, no redundant work)."""
+    plain = isinstance(deck.material, dk.Material) and deck.damage.bond_law == "brittle"
+    return not plain or deck.damage.sed_softening is not None or cloud.irregular
+
+
 def build_distributed(deck: dk.Deck, comm: Any) -> dict[str, Any]:
     """The objects of this rank: ``cloud`` (local), ``global_cloud``, ``model``,
     ``solver``, ``communicator`` (a :class:`MPICommunicator`) and ``n_family`` (points
@@ -66,10 +76,11 @@ def build_distributed(deck: dk.Deck, comm: Any) -> dict[str, Any]:
     _refuse(deck, size)
     d = deck.discretisation
     radius = search_radius(d.delta, global_cloud.spacing, d.partial_volume)
-    ghost_radius = 2.0 * radius
+    families = ghost_families(deck, global_cloud)
+    ghost_radius = (2.0 if families else 1.0) * radius
     if deck.contact is not None:  # points that may touch an owned point
         ghost_radius += deck.contact.distance_factor * global_cloud.spacing
-    layout, n_family = decompose(comm, global_cloud, radius, ghost_radius)
+    layout, n_family = decompose(comm, global_cloud, radius, ghost_radius, families)
     cloud = local_cloud(global_cloud, layout)
     mpi = MPICommunicator(comm, layout)
     # on the global cloud (a traction's layer thickness is that of the whole node set)

@@ -24,7 +24,11 @@ from peridynamics.parallel.decompose import Layout, ghost_points, rcb_partition
 
 
 def decompose(
-    comm: Any, cloud: PointCloud, search_radius: float, ghost_radius: float
+    comm: Any,
+    cloud: PointCloud,
+    search_radius: float,
+    ghost_radius: float,
+    ghost_families: bool = True,
 ) -> tuple[Layout, int]:
     """The layout of this rank and its number of points with a bond family (collective:
     one ``alltoall`` of ghost requests).
@@ -43,7 +47,11 @@ def decompose(
     search_radius : bond search radius (m); the partition weight of a point is the number
         of points within it (its bond count).
     ghost_radius : distance (m) within which other ranks' points are held as ghosts, at
-        least twice ``search_radius`` (the families of the first layer reach that far).
+        least twice ``search_radius`` (the families of the first layer reach that far)
+        with ``ghost_families``, at least ``search_radius`` without.
+    ghost_families : give the first ghost layer its families (models whose force pass
+        reads per-point quantities of the far end of a bond: LPS, correspondence, SED
+        levels); plain bond-based PMB reads only u and v there and needs one layer.
     """
     from peridynamics.parallel.mpi import build_exchange_lists
 
@@ -52,7 +60,10 @@ def decompose(
     part = rcb_partition(cloud.x, weights, size)
     owned = np.flatnonzero(part == rank)
     ghosts = ghost_points(cloud.x, owned, ghost_radius)
-    first = np.isin(ghosts, ghost_points(cloud.x, owned, search_radius))
+    if ghost_families:
+        first = np.isin(ghosts, ghost_points(cloud.x, owned, search_radius))
+    else:
+        first = np.zeros(len(ghosts), dtype=bool)
     ghosts = np.concatenate([ghosts[first], ghosts[~first]])
     recv, send = build_exchange_lists(comm, part, owned, ghosts)
     layout = Layout(rank, size, part, np.concatenate([owned, ghosts]), len(owned), recv, send)

@@ -135,7 +135,8 @@ class Session:
         m, s = self.model, self._local()
         if self._meter is None:
             self._meter = build_meter(m, self._orientation_table())
-        idx, w = self._meter.weights(all_intact(m, s), separating=separating)
+        flags = all_intact(m, s)
+        idx, w = self._meter.weights(flags, separating=separating, exchange=self.comm.exchange)
         keep = idx < int(m.bonds.offsets[self.comm.n_owned])
         idx, w = idx[keep], w[keep]
         if what == "measure":
