@@ -170,6 +170,7 @@ class ShortRangeContact:
         skin: float | None = None,
         friction_static: float = 0.0,
         friction_kinetic: float = 0.0,
+        global_ids: NDArray[np.int64] | None = None,
     ) -> None:
         xa = np.ascontiguousarray(np.asarray(x, dtype=np.float64))
         if xa.ndim != 2 or xa.shape[1] not in (1, 2, 3):
@@ -198,6 +199,10 @@ class ShortRangeContact:
         self.pair_bond_ij = np.zeros(0, dtype=np.int64)
         self.pair_bond_ji = np.zeros(0, dtype=np.int64)
         self._u_ref: NDArray | None = None
+        # the order of a point's contacts and of its family: global ids (serial: 0..n-1)
+        self._key = np.ascontiguousarray(
+            np.arange(n, dtype=np.int64) if global_ids is None else global_ids, dtype=np.int64
+        )
         self._limit_sq = (0.5 * self.skin) ** 2
         self._coords = np.empty((n, xa.shape[1]), dtype=np.int64)
         self._keys = np.empty(n, dtype=np.int64)
@@ -288,7 +293,7 @@ class ShortRangeContact:
         b = self.bonds
         kernels.fill_candidates(
             x, u, self._coords, ncell, stride, order, sorted_keys, cell_start, cutoff_sq, offsets,
-            b.offsets, b.bond_j, pair_j, bond_ij, bond_ji,
+            b.offsets, b.bond_j, pair_j, bond_ij, bond_ji, self._key,
         )  # fmt: skip
         self.pair_offsets, self.pair_j = offsets, pair_j
         self.pair_bond_ij, self.pair_bond_ji = bond_ij, bond_ji

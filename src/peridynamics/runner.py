@@ -647,6 +647,7 @@ def build_contact(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, material: Any)
         ),
         friction_static=deck.contact.friction_static,
         friction_kinetic=deck.contact.friction_kinetic,
+        global_ids=cloud.global_ids,
     )
 
 

@@ -171,25 +171,32 @@ def count_candidates(
 
 
 @njit(inline="always")
-def _insertion_sort(a, lo, hi):
-    """Sort ``a[lo:hi]`` in place (short rows: insertion sort beats a general sort)."""
+def _insertion_sort(a, key, lo, hi):
+    """Sort ``a[lo:hi]`` in place by ``key[a]`` (short rows: insertion sort beats a
+    general sort)."""
     for k in range(lo + 1, hi):
         v = a[k]
         m = k - 1
-        while m >= lo and a[m] > v:
+        while m >= lo and key[a[m]] > key[v]:
             a[m + 1] = a[m]
             m -= 1
         a[m + 1] = v
 
 
 @njit(inline="always")
-def _find_bond(offsets, bond_j, i, j):
-    """Index of bond (i, j) in the CSR bond list (rows sorted by j), or -1."""
+def _find_bond(offsets, bond_j, key, i, j):
+    """Index of bond (i, j) in the CSR bond list (rows sorted by ``key[j]``), or -1."""
     lo = offsets[i]
     hi = offsets[i + 1]
-    k = _lower_bound(bond_j, lo, hi, j)
-    if k < hi and bond_j[k] == j:
-        return k
+    target = key[j]
+    while lo < hi:  # lower bound of key[j] in key[bond_j[lo:hi]]
+        mid = (lo + hi) // 2
+        if key[bond_j[mid]] < target:
+            lo = mid + 1
+        else:
+            hi = mid
+    if lo < offsets[i + 1] and bond_j[lo] == j:
+        return lo
     return -1
 
 
@@ -210,10 +217,13 @@ def fill_candidates(
     pair_j,
     pair_bond_ij,
     pair_bond_ji,
+    key,
 ):
     """Fill the Verlet list counted by :func:`count_candidates`: partner ``pair_j``
-    (sorted within each row), index of bond (i, j) ``pair_bond_ij`` and of bond (j, i)
-    ``pair_bond_ji`` in the bond list (-1 when the two points are not bonded)."""
+    (sorted within each row by ``key``, the global point id: a rank of a decomposed run
+    sums a point's contact forces in the serial order), index of bond (i, j)
+    ``pair_bond_ij`` and of bond (j, i) ``pair_bond_ji`` in the bond list (families
+    sorted by ``key`` too; -1 when the two points are not bonded)."""
     n, d = x.shape
     n_rows = 3 ** (d - 1)
     for i in prange(n):
@@ -225,11 +235,11 @@ def fill_candidates(
                 if j != i and _dist_sq(i, j, x, u) <= cutoff_sq:
                     pair_j[p] = j
                     p += 1
-        _insertion_sort(pair_j, pair_offsets[i], pair_offsets[i + 1])
+        _insertion_sort(pair_j, key, pair_offsets[i], pair_offsets[i + 1])
         for k in range(pair_offsets[i], pair_offsets[i + 1]):
             j = pair_j[k]
-            pair_bond_ij[k] = _find_bond(offsets, bond_j, i, j)
-            pair_bond_ji[k] = _find_bond(offsets, bond_j, j, i)
+            pair_bond_ij[k] = _find_bond(offsets, bond_j, key, i, j)
+            pair_bond_ji[k] = _find_bond(offsets, bond_j, key, j, i)
 
 
 @njit(inline="always")

@@ -2,10 +2,12 @@
 
 :func:`local_cloud` cuts the global :class:`~peridynamics.geometry.cloud.PointCloud`
 (every rank builds it: O(n_points) memory, small beside the bonds) into the points this
-rank holds, ``[owned | ghost]``; node sets keep their owned members only (a boundary
-condition or probe acts where its points are owned). :func:`own_families` turns a bond
-list built on that local cloud into the list of the owned families, each sorted by the
-global id of the neighbour (the serial order), with empty families for the ghosts.
+rank holds, ``[owned | ghost]``; node sets keep every member held here (ghosts too:
+a no-fail zone is a property of its points), while boundary conditions keep their owned
+points (:func:`localize_condition`) and probes run on the whole body on rank 0.
+:func:`own_families` turns a bond list built on that local cloud into the list of the
+owned families, each sorted by the global id of the neighbour (the serial order), with
+empty families for the ghosts.
 """
 
 from __future__ import annotations
@@ -71,16 +73,19 @@ def decompose(
 
 
 def local_cloud(cloud: PointCloud, layout: Layout) -> PointCloud:
-    """The points this rank holds (owned, then ghosts) with owned-only node sets and
-    their global ids."""
+    """The points this rank holds (owned, then ghosts) with their global ids. Node sets
+    keep every member held here, ghosts included: a set that gives points a property
+    (a no-fail zone, a material region) must give it to the ghosts as their owners have
+    it. Loads are localised to owned points separately (:func:`localize_condition`)."""
     ids = layout.local_ids
-    owned = layout.owned_ids
+    order = np.argsort(ids, kind="stable")
+    sorted_ids = ids[order]
     sets = {}
     for name, members in cloud.node_sets.items():
-        pos = np.searchsorted(owned, members)
-        hit = pos < len(owned)
-        hit[hit] = owned[pos[hit]] == members[hit]
-        sets[name] = pos[hit].astype(np.intp)
+        pos = np.searchsorted(sorted_ids, members)
+        hit = pos < len(ids)
+        hit[hit] = sorted_ids[pos[hit]] == members[hit]
+        sets[name] = np.sort(order[pos[hit]]).astype(np.intp)
     return replace(
         cloud,
         x=cloud.x[ids],
