@@ -272,6 +272,7 @@ class Model:
         broken = 0
         energy_done = False
         before = state.bonds_broken
+        fused = False  # breaking inside the force pass (its per-point counts)
         if self.comm.size > 1:
             self.exchange_dofs(state)
         if (
@@ -288,6 +289,7 @@ class Model:
             else:
                 broken = fm.force_and_break(state, law.point_s0, law.family_s0_min)
             state.bonds_broken += broken
+            fused = True
         elif commit and isinstance(fm, CompositeForceModel):  # several bodies, each its way
             broken = fm.force_and_commit(state, law)  # type: ignore[arg-type]
             state.bonds_broken += broken
@@ -298,6 +300,7 @@ class Model:
         ):  # softening bonds: the law's trial and commit run inside the force pass
             broken = fm.force_and_commit(state)
             state.bonds_broken += broken
+            fused = True
         else:
             if commit and law.active:
                 law.trial(state)
@@ -308,7 +311,7 @@ class Model:
             sed.update(state, energy_computed=energy_done)
         self._extras(state)
         if broken and self.comm.size > 1:  # count the owned families' bonds only
-            broken = self._owned_broken(state, broken)
+            broken = self._owned_broken(fused)
             state.bonds_broken = before + broken
         return broken
 
@@ -324,16 +327,15 @@ class Model:
             for f in fields:
                 self.comm.exchange(f)
 
-    def _owned_broken(self, state: State, broken: int) -> int:
+    def _owned_broken(self, fused: bool) -> int:
         """Bonds of owned points broken by this evaluation (the ghosts of the first layer
-        break theirs too, as their owners do): from the fused pass's per-point counts or
-        the damage law's proposal."""
+        break theirs too, as their owners do): from the per-point counts of a force pass
+        that breaks bonds (``fused``) or from the damage law's proposal."""
         n_own = self.comm.n_owned
         fm, law = self.force_model, self.damage_law
         scratch = getattr(fm, "_broken_scratch", None)
-        if isinstance(fm, PMBForceModel) and fm.fused_breaking and scratch is not None:
-            if isinstance(law, CriticalStretchLaw):
-                return int(scratch[:n_own].sum())
+        if fused and scratch is not None:
+            return int(scratch[:n_own].sum())
         proposed = getattr(law, "_proposed", None)
         if proposed is None:
             raise RuntimeError(f"the damage law {law.name!r} cannot count owned bonds")
@@ -371,7 +373,7 @@ class Model:
         if self._sed is not None:
             self._sed.update(state)
         if broken and self.comm.size > 1:  # count the owned families' bonds only
-            broken = self._owned_broken(state, broken)
+            broken = self._owned_broken(False)
             state.bonds_broken = before + broken
         return broken
 

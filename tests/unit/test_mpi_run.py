@@ -114,9 +114,16 @@ def _same_run(serial: Path, mpi: Path) -> None:
     assert _close(rs, rm) == []
 
 
-@pytest.mark.parametrize("case", ["branching", "rock"])
+SOFTENING = [
+    *BRANCHING,
+    "--set", "damage.bond_law=bilinear",
+    "--set", "damage.tensile_strength=40e6",
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("case", ["branching", "rock", "softening"])
 def test_two_ranks_give_the_serial_run(tmp_path: Path, case: str) -> None:
-    args = BRANCHING if case == "branching" else ROCK
+    args = {"branching": BRANCHING, "rock": ROCK, "softening": SOFTENING}[case]
     serial = _run(*args, "--out", str(tmp_path / "s"))
     assert serial.returncode == 0, serial.stderr
     mpi = _run(*args, "--out", str(tmp_path / "m"), ranks=2)

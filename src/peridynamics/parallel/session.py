@@ -121,8 +121,14 @@ class Session:
         )
         return self._to_root(w)
 
-    def _attr(self, name: str) -> NDArray | None:
-        return self._to_root(np.asarray(getattr(self.model, name)))
+    def _attr(self, name: str) -> NDArray | AttributeError | None:
+        """A per-point attribute of the model gathered on rank 0; the AttributeError
+        (the same on every rank: the same model) when the model has none."""
+        try:
+            value = getattr(self.model, name)
+        except AttributeError as exc:
+            return exc
+        return self._to_root(np.asarray(value))
 
     def _callable(self, fn: Callable[..., Any], *args: Any) -> Any:
         return fn(self, *args)
@@ -293,13 +299,19 @@ class GlobalModel:
     def n_points(self) -> int:
         return self.cloud.n_points
 
+    def _point_attr(self, name: str) -> NDArray[np.float64]:
+        got = self._session.call("attr", name)
+        if isinstance(got, AttributeError):
+            raise got
+        return got
+
     @property
     def point_s0(self) -> NDArray[np.float64]:
-        return self._session.call("attr", "point_s0")
+        return self._point_attr("point_s0")
 
     @property
     def density(self) -> NDArray[np.float64]:
-        return self._session.call("attr", "density")
+        return self._point_attr("density")
 
     def point_damage(self, intact: Any, interface_intact: Any = None) -> NDArray:
         initial = isinstance(intact, BondFlags) and intact.which == "bond_intact"
