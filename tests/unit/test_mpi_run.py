@@ -149,17 +149,18 @@ def test_two_ranks_lps(tmp_path: Path) -> None:
 
 
 def test_a_killed_rank_resumes_to_the_same_result(tmp_path: Path) -> None:
-    whole = _run(*ROCK, "--out", str(tmp_path / "whole"), ranks=2)
+    deck = [a if a != "solver.steps=500" else "solver.steps=300" for a in ROCK]
+    whole = _run(*deck, "--out", str(tmp_path / "whole"), ranks=2)
     assert whole.returncode == 0, whole.stderr
     out = str(tmp_path / "cut")
-    crash = {"PERIDYNAMICS_CRASH_AT_STEP": "230", "PERIDYNAMICS_CRASH_RANK": "1"}
-    died = _run(*ROCK, "--out", out, "--checkpoint-every", "100", ranks=2, env=crash)
+    crash = {"PERIDYNAMICS_CRASH_AT_STEP": "130", "PERIDYNAMICS_CRASH_RANK": "1"}
+    died = _run(*deck, "--out", out, "--checkpoint-every", "50", ranks=2, env=crash)
     assert died.returncode != 0
     marker = json.loads((tmp_path / "cut" / "checkpoint_mpi.json").read_text())
-    assert marker["step"] == 200 and marker["ranks"] == 2
-    other = _run(ROCK[0], *ROCK[1:], "--resume", out, ranks=3)
+    assert marker["step"] == 100 and marker["ranks"] == 2
+    other = _run(*deck, "--resume", out, ranks=3)
     assert other.returncode == 2 and "mpiexec -n 2" in other.stderr
-    resumed = _run(ROCK[0], *ROCK[1:], "--resume", out, ranks=2)
+    resumed = _run(*deck, "--resume", out, ranks=2)
     assert resumed.returncode == 0, resumed.stderr
     a = np.load(tmp_path / "whole" / "final_state.npz")
     b = np.load(tmp_path / "cut" / "final_state.npz")
@@ -180,7 +181,7 @@ def test_two_ranks_adr_agree_to_the_tolerance(tmp_path: Path) -> None:
     the iterations may differ, the equilibrium agrees to the residual tolerance."""
     args = [
         str(EXAMPLES / "lps" / "plate_hole.yaml"),
-        "--set", "discretisation.spacing=1e-3",
+        "--set", "discretisation.spacing=2e-3",
         "--set", "solver.tolerance=1e-6",
     ]  # fmt: skip
     assert _run(*args, "--out", str(tmp_path / "s")).returncode == 0
@@ -188,7 +189,7 @@ def test_two_ranks_adr_agree_to_the_tolerance(tmp_path: Path) -> None:
     assert mpi.returncode == 0, mpi.stderr
     us = np.load(tmp_path / "s" / "final_state.npz")["u"]
     um = np.load(tmp_path / "m" / "final_state.npz")["u"]
-    # measured 2.7e-7 of the largest displacement at tolerance 1e-6
+    # measured 2.7e-7 of the largest displacement at tolerance 1e-6 (spacing 1 mm)
     assert np.abs(um - us).max() <= 1e-5 * np.abs(us).max()
     rm = json.loads((tmp_path / "m" / "summary.json").read_text())["results"]
     assert rm["residual"] <= 1e-6

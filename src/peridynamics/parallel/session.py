@@ -113,8 +113,9 @@ class Session:
         )
         return self.comm.sum(float(failed)), self.comm.sum(float(end))
 
-    def _sed_field(self, u_global: NDArray | None) -> NDArray | None:
-        u_global = self.comm.comm.bcast(u_global, root=0)
+    def _sed_field(self, u_global: NDArray) -> NDArray | None:
+        """Strain-energy density of a whole-body displacement (every rank got it with
+        the request), gathered on rank 0."""
         ids = self.model.cloud.global_ids
         w = self.model.strain_energy_density(
             np.ascontiguousarray(u_global[ids]), self.model.bonds.bond_intact
