@@ -1,0 +1,518 @@
+"""The run loop of a simulation: observers, checkpoints, Ctrl-C, progress, the summary.
+
+:class:`RunLoop` is the part of :class:`peridynamics.runner.Simulation` that steps a
+built model: ``solver.step`` until ``solver.done``, every observer after each step,
+checkpoints, ``summary.json``. Under MPI (``mpiexec -n N``) the same loop runs on every
+rank; rank 0 runs the observers on views of the whole body while the other ranks answer
+its requests (:mod:`peridynamics.parallel.session`).
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import threading
+import time
+from collections.abc import Callable
+from functools import partial
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from peridynamics.io import deck as dk
+from peridynamics.io.checkpoint import CHECKPOINT_NAME, read_checkpoint, read_checkpoint_meta
+from peridynamics.io.observers import (
+    CrashAtStep,
+    Observer,
+    RunContext,
+    new_records,
+    observers_for,
+)
+from peridynamics.io.observers_frames import VTKFrames
+from peridynamics.io.summary import write_summary
+from peridynamics.solvers.base import Solver
+from peridynamics.solvers.explicit import SimulationUnstable
+from peridynamics.solvers.hybrid import HybridSolver
+from peridynamics.state import State
+
+if TYPE_CHECKING:
+    from peridynamics.geometry import PointCloud
+    from peridynamics.model import Model
+
+
+class RunLoop:
+    """Stepping, observing and finishing a built simulation (a base of
+    :class:`peridynamics.runner.Simulation`, which supplies the attributes below)."""
+
+    deck: dk.Deck
+    cloud: PointCloud
+    model: Model
+    solver: Solver
+    setup_s: float
+    session: Any
+    global_cloud: PointCloud | None
+
+    def fingerprint(self) -> str:
+        """Hash of what a checkpoint must match (the subclass's)."""
+        raise NotImplementedError
+
+    def run(
+        self,
+        out_dir: str | Path,
+        quiet: bool = False,
+        checkpoint_every: int | None = None,
+        resume: bool = False,
+        progress: bool = True,
+    ) -> dict:
+        """Run to the end, writing output into ``out_dir``; returns the summary mapping.
+
+        The loop is generic: ``solver.step`` until ``solver.done``, every observer's
+        ``on_step`` after each step. Raises SimulationUnstable after writing
+        ``last_good.vtu`` and a summary whose ``status`` is ``"unstable"``.
+
+        ``checkpoint_every``: steps between checkpoints (0: none; ``None``: 0 for a new
+        run, the interval of the interrupted run when resuming). A checkpointed run also
+        writes a checkpoint of its final state that records that the run finished, so a
+        ``resume`` of a finished run is refused (SetupError).
+
+        Ctrl-C (SIGINT, in the main thread) stops the run after the step in progress:
+        the state after that step is complete (the solver and every observer have run),
+        so a checkpoint of it is written when checkpointing is on, then the outputs and
+        a summary with status ``"interrupted"``; :class:`RunInterrupted` is raised. A
+        second Ctrl-C aborts at once (KeyboardInterrupt, nothing more written).
+        """
+        from peridynamics.runner import SetupError
+
+        out = Path(out_dir)
+        out.mkdir(parents=True, exist_ok=True)
+        dist = self.session  # a decomposed run: rank 0 observes, the others serve
+        root = dist is None or dist.root
+        if root:
+            (out / (CHECKPOINT_NAME + ".tmp")).unlink(missing_ok=True)  # left by a crash
+        solver = self.solver
+        if resume:
+            state, records, meta, fp = self._read_resume(out)
+            if fp != self.fingerprint():
+                raise SetupError(
+                    "--resume",
+                    f"the checkpoint in {str(out)!r} was written by "
+                    "a different deck; resume with the same deck and overrides",
+                )
+            finished = meta.get("finished", False) or solver.done(state)
+            if finished and (out / "summary.json").exists():
+                raise SetupError(
+                    "--resume",
+                    f"the run in {str(out)!r} has already finished "
+                    f"({state.step} steps, t = {state.t:.6g} s); nothing to resume "
+                    "(start a new run with --out)",
+                )
+            try:
+                solver.resume(state)
+            except ValueError as exc:
+                raise SetupError("--resume", str(exc)) from None
+            if checkpoint_every is None:  # keep the interval of the original run
+                checkpoint_every = int(records.get("checkpoint_every", 0))
+            if not quiet and root:
+                print(f"resuming from step {state.step} (t = {state.t:.6g} s) in {out}")
+        else:
+            finished = False
+            state = solver.init()
+            records = new_records(self.deck)
+        every = int(checkpoint_every or 0)
+        records["checkpoint_every"] = every
+        obs_model: Any = self.model
+        if dist is not None:
+            from peridynamics.parallel.session import GlobalModel
+
+            obs_model = GlobalModel(dist, self._global_bonds())
+        ctx = RunContext(self.deck, obs_model, solver, out, records, self.fingerprint())
+        ctx.session = dist
+        ctx.stop = finished  # finished, but the outputs were not written: write them
+        observers = (
+            observers_for(self.deck, obs_model, isinstance(solver, HybridSolver), every)
+            if root
+            else []
+        )
+        if dist is not None:  # the crash hook of a decomposed run is _crash_hook
+            observers = [ob for ob in observers if not isinstance(ob, CrashAtStep)]
+        total = self._sync(state, 0, False)[1]
+        self._observe(state, ctx, lambda v: [ob.on_start(ctx, v, resume) for ob in observers],
+                      total)  # fmt: skip
+        n_total = solver.total_steps()
+        t_start = time.perf_counter()
+        steps_done_here = 0
+        work = 0  # force evaluations: steps, or iterations of a static solver
+        bar = _progress(quiet or not progress or not root, n_total, state.step, self.deck.name)
+        error = None
+        stop = _StopRequest()
+        stopped = False  # a Ctrl-C on some rank, agreed after a step
+        crash = _crash_hook(dist)
+        try:
+            with stop, bar:
+                while not solver.done(state) and not ctx.stop and not stopped:
+                    if dist is None and stop.requested:
+                        break
+                    before = state.bonds_broken
+                    result = solver.step(state)
+                    broken, total, stopped = self._sync(
+                        state, state.bonds_broken - before, stop.requested
+                    )
+                    result.broken = broken
+                    steps_done_here += 1
+                    work += result.iterations
+                    self._observe(state, ctx, partial(_on_step, observers, ctx, result),
+                                  total)  # fmt: skip
+                    if crash is not None and state.step == crash:
+                        os._exit(137)
+                    if state.step % 50 == 0 or solver.done(state):
+                        bar.update(state.step)
+                stopped = stopped or (dist is None and stop.requested)
+                if not stopped:
+                    solver.check(state)  # the last steps are checked too
+        except SimulationUnstable as exc:
+            ctx.status, error = "unstable", str(exc)
+            good = exc.last_good or state
+            frames = VTKFrames(self.deck, obs_model)
+            self._observe(good, ctx, lambda v: frames.frame(ctx, v, name="last_good.vtu"),
+                          total)  # fmt: skip
+            wall = time.perf_counter() - t_start
+            self._finish(ctx, state, observers, wall, steps_done_here, work, error)
+            raise
+        wall = time.perf_counter() - t_start
+        if stopped and not (solver.done(state) or ctx.stop):
+            ctx.status = "interrupted"
+            summary = self._finish(ctx, state, observers, wall, steps_done_here, work, None)
+            checkpoint = None
+            if every:  # after _finish: the records then list the frame it wrote
+                checkpoint = self._checkpoint(ctx, state, {"finished": False})
+            raise RunInterrupted(state.step, state.t, n_total, checkpoint, summary)
+        summary = self._finish(ctx, state, observers, wall, steps_done_here, work, error)
+        if every:  # the final state, marked finished: a --resume of it is refused
+            self._checkpoint(ctx, state, {"finished": True})
+        return summary
+
+    # -- the decomposed run's collective steps (no-ops or plain calls when serial) -------
+    def _global_bonds(self) -> int:
+        """Directed bonds of the whole body (owned families of every rank)."""
+        dist = self.session
+        end = int(self.model.bonds.offsets[dist.comm.n_owned])
+        return int(dist.comm.sum(float(end)))
+
+    def _sync(self, state: State, broken: int, stop: bool) -> tuple[int, int, bool]:
+        """(bonds broken by this step, bonds broken in the run, Ctrl-C somewhere) over
+        every rank (one ``Allreduce``)."""
+        if self.session is None:
+            return broken, state.bonds_broken, stop
+        v = self.session.comm.sum_array(
+            np.array([broken, state.bonds_broken, 1.0 if stop else 0.0], dtype=np.float64)
+        )
+        return int(v[0]), int(v[1]), bool(v[2] > 0)
+
+    def _observe(
+        self, state: State, ctx: RunContext, work: Callable[[State], Any], total: int
+    ) -> None:
+        """Run ``work`` (observer hooks) on rank 0 with the whole body's view of
+        ``state`` while the other ranks answer its requests; ``ctx.stop`` is agreed."""
+        dist = self.session
+        if dist is None:
+            work(state)
+            return
+        from peridynamics.parallel.session import GlobalState
+
+        dist.state = state
+        if not dist.root:
+            ctx.stop, failure = dist.serve()
+            if failure:
+                raise RuntimeError(f"rank 0 failed while writing outputs: {failure}")
+            return
+        failure = None
+        try:
+            work(GlobalState(dist, state, total))
+        except BaseException as exc:
+            failure = f"{type(exc).__name__}: {exc}"
+            raise
+        finally:
+            dist.end_step((ctx.stop, failure))
+
+    def _checkpoint(self, ctx: RunContext, state: State, meta: dict[str, Any]) -> Path | None:
+        """A checkpoint of ``state`` (every rank its own part under MPI)."""
+        got: list[Path | None] = [None]
+
+        def work(v: State) -> None:
+            got[0] = ctx.write_checkpoint(v, meta)
+
+        self._observe(state, ctx, work, state.bonds_broken)
+        return got[0]
+
+    def _read_resume(self, out: Path) -> tuple[State, dict[str, Any], dict[str, Any], str]:
+        """(state, records, meta, fingerprint) of the checkpoint to resume."""
+        if self.session is None:
+            state, records, fp = read_checkpoint(out)
+            return state, records, read_checkpoint_meta(out), fp
+        from peridynamics.parallel.checkpoints import read_rank_checkpoint
+
+        return read_rank_checkpoint(self.session, out)
+
+    def _finish(
+        self,
+        ctx: RunContext,
+        s: State,
+        observers: list[Observer],
+        wall: float,
+        steps: int,
+        work: int,
+        error: str | None,
+    ) -> dict:
+        """final_state.npz, the results every run has, then each observer's (rank 0
+        under MPI, the other ranks serving; they return an empty mapping)."""
+        got: dict[str, Any] = {}
+        total = self._sync(s, 0, False)[1]
+        ranks: dict[str, Any] | None = None
+        if self.session is not None:  # the halo time of the slowest rank, memory per rank
+            comm = self.session.comm
+            ranks = {
+                "ranks": comm.size,
+                "halo_exchange_s": comm.max(comm.exchange_s),
+                "halo_exchanges": comm.exchanges,
+                "points_per_rank": comm.gather_objects(comm.n_owned),
+                "ghosts_per_rank": comm.gather_objects(comm.layout.n_local - comm.n_owned),
+            }
+
+        def finish(v: State) -> None:
+            got.update(self._finish_root(ctx, v, observers, wall, steps, work, error, ranks))
+
+        self._observe(s, ctx, finish, total)
+        return got
+
+    def _finish_root(
+        self,
+        ctx: RunContext,
+        s: State,
+        observers: list[Observer],
+        wall: float,
+        steps: int,
+        work: int,
+        error: str | None,
+        ranks: dict[str, Any] | None = None,
+    ) -> dict:
+        m = ctx.model
+        damage = ctx.damage(s)
+        extra_fields: dict[str, Any] = {}
+        try:  # the per-point random field (Weibull) a run drew, and no-fail points (inf)
+            extra_fields["critical_stretch"] = m.point_s0
+        except AttributeError:
+            pass
+        for group in m.force_model.dofs()[1:]:  # micropolar: theta (rad), moment (N m/m^3)
+            extra_fields[group.value] = s[group.value]
+            extra_fields[group.force] = s[group.force]
+        distributed = self.session is not None
+        for name in ("interface_intact", "bond_kappa"):  # several bodies, softening bonds
+            if name in s and not distributed:
+                extra_fields[name] = s[name]
+        if not distributed:  # per-bond flags stay on their rank under MPI
+            extra_fields["intact"] = s.intact
+        np.savez(
+            ctx.out / "final_state.npz",
+            u=s.u,
+            v=s.v,
+            damage=damage,
+            t=s.t,
+            step=s.step,
+            x=m.cloud.x,
+            **extra_fields,
+        )
+        kinetic, strain = m.state_energies(s)
+        results: dict[str, Any] = {
+            "n_points": m.cloud.n_points,
+            "n_bonds": m.bonds.n_bonds,
+            "spacing_m": m.cloud.spacing,
+            "horizon_m": m.bonds.horizon,
+            **self.solver.summary_fields(s),
+            "steps": s.step,
+            "final_time_s": s.t,
+            "max_damage": float(damage.max()),
+            "bonds_broken": s.bonds_broken,
+            "max_displacement_m": float(np.abs(s.u).max()),
+            "kinetic_energy_J": kinetic,
+            "strain_energy_J": strain,
+            "damaged_area_fraction": float(np.mean(damage >= 0.3)),
+        }
+        if m.cloud.grid_fit:  # lengths that were not whole multiples of the spacing
+            results["geometry_fit"] = [f.as_dict() for f in m.cloud.grid_fit]
+        files: list[str] = []
+        for ob in observers:
+            files += ob.finalize(ctx, s, results)
+        if ranks is not None and self.session is not None:  # the peak after every output
+            ranks["peak_rss_gib_per_rank"] = self.session.call("call", _gather_rss)
+        n_b = m.bonds.n_bonds
+        timing: dict[str, Any] = {
+            "wall_s": wall,
+            "steps": steps,
+            "setup_s": self.setup_s,
+            "bond_updates_per_s": n_b * work / wall if wall > 0 and work else 0.0,
+            "seconds_per_step": wall / steps if steps else 0.0,
+        }
+        if work != steps:  # a static solver: iterations per step vary
+            timing["iterations"] = work
+        if ranks is not None:  # a decomposed run
+            timing.update(ranks)
+        extra: dict[str, Any] = {"status": ctx.status, "files": files}
+        if error:
+            extra["error"] = error
+        return write_summary(
+            ctx.out / "summary.json",
+            self.deck.model_dump(mode="json", by_alias=True),
+            results,
+            timing,
+            extra,
+        )
+
+
+def _peak_rss_gib() -> float:
+    """Peak resident memory of this process (GiB; Linux reports kB)."""
+    import resource
+
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20
+
+
+def _gather_rss(session: Any) -> list[float]:
+    """Peak resident memory of every rank (GiB), in rank order."""
+    return list(session.comm.gather_objects(_peak_rss_gib()))
+
+
+def _on_step(observers: list[Observer], ctx: RunContext, result: Any, s: State) -> None:
+    """Every observer's ``on_step`` hook."""
+    for ob in observers:
+        ob.on_step(ctx, s, result)
+
+
+def _crash_hook(dist: Any) -> int | None:
+    """Test hook of a decomposed run: the step after which rank
+    ``PERIDYNAMICS_CRASH_RANK`` (default 0) dies (exit 137, like SIGKILL), from
+    ``PERIDYNAMICS_CRASH_AT_STEP``; ``None`` when unset or serial (serial runs use the
+    :class:`~peridynamics.io.observers.CrashAtStep` observer)."""
+    if dist is None or "PERIDYNAMICS_CRASH_AT_STEP" not in os.environ:
+        return None
+    if int(os.environ.get("PERIDYNAMICS_CRASH_RANK", "0")) != dist.comm.rank:
+        return None
+    return int(os.environ["PERIDYNAMICS_CRASH_AT_STEP"])
+
+
+class RunInterrupted(KeyboardInterrupt):
+    """The run stopped at a user's request (Ctrl-C) after a complete step; the outputs
+    and a summary with status ``"interrupted"`` are written, and ``checkpoint`` is the
+    checkpoint of that state (``None`` when checkpointing was off)."""
+
+    def __init__(
+        self, step: int, t: float, total: int, checkpoint: Path | None, summary: dict
+    ) -> None:
+        self.step, self.t, self.total = step, t, total
+        self.checkpoint, self.summary = checkpoint, summary
+        super().__init__(f"interrupted after step {step} of {total} (t = {t:.6g} s)")
+
+
+class _StopRequest:
+    """While active (a context manager, main thread only), the first SIGINT only sets
+    ``requested`` so that the run loop stops between two steps; a second one raises
+    KeyboardInterrupt at once. Elsewhere SIGINT keeps its handler."""
+
+    def __init__(self) -> None:
+        self.requested = False
+        self._previous: Any = None
+        self._installed = False
+
+    def _handler(self, signum: int, frame: Any) -> None:
+        if self.requested:
+            raise KeyboardInterrupt
+        self.requested = True
+
+    def __enter__(self) -> _StopRequest:
+        if threading.current_thread() is threading.main_thread():
+            self._previous = signal.signal(signal.SIGINT, self._handler)
+            self._installed = True
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self._installed:
+            signal.signal(signal.SIGINT, self._previous)
+            self._installed = False
+
+
+class _NoBar:
+    def __enter__(self) -> _NoBar:
+        return self
+
+    def __exit__(self, *a: object) -> None:
+        return None
+
+    def update(self, step: int) -> None:
+        return None
+
+
+def _clock(seconds: float) -> str:
+    seconds = int(round(seconds))
+    h, rest = divmod(seconds, 3600)
+    return f"{h}:{rest // 60:02d}:{rest % 60:02d}"
+
+
+class _RateColumn:
+    """Steps per second and the time left, from the average rate since this process
+    started stepping (rich's own estimate uses the last few updates and jumps about when
+    the machine is shared)."""
+
+    def __init__(self, start: int) -> None:
+        self.start = start
+        self.t0 = time.perf_counter()
+
+    def text(self, completed: float, total: float | None) -> str:
+        done = completed - self.start
+        elapsed = time.perf_counter() - self.t0
+        if done <= 0 or elapsed <= 0:
+            return "-- steps/s"
+        rate = done / elapsed
+        left = f" ETA {_clock((total - completed) / rate)}" if total else ""
+        return f"{rate:.3g} steps/s{left}"
+
+
+class _RichBar:
+    def __init__(self, total: int, start: int, label: str) -> None:
+        from rich.progress import (
+            BarColumn,
+            MofNCompleteColumn,
+            Progress,
+            ProgressColumn,
+            TextColumn,
+            TimeElapsedColumn,
+        )
+        from rich.text import Text
+
+        rate = _RateColumn(start)
+
+        class RateColumn(ProgressColumn):
+            def render(self, task: Any) -> Text:
+                return Text(rate.text(task.completed, task.total), style="progress.remaining")
+
+        self.p = Progress(
+            TextColumn(f"[bold]{label}"),
+            BarColumn(),
+            MofNCompleteColumn(),
+            TextColumn("steps"),
+            TimeElapsedColumn(),
+            RateColumn(),
+        )
+        self.task = self.p.add_task(label, total=total, completed=start)
+
+    def __enter__(self) -> _RichBar:
+        self.p.__enter__()
+        return self
+
+    def __exit__(self, *a: Any) -> None:
+        self.p.__exit__(*a)
+
+    def update(self, step: int) -> None:
+        self.p.update(self.task, completed=step)
+
+
+def _progress(off: bool, total: int, start: int, label: str) -> _NoBar | _RichBar:
+    return _NoBar() if off else _RichBar(total, start, label)
