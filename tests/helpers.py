@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -11,17 +12,35 @@ ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
 
 
+def mpiexec() -> tuple[str | None, str]:
+    """The mpiexec to use (beside this Python first, then on PATH) and, when there is
+    none, why (for a skip reason)."""
+    try:
+        import mpi4py  # noqa: F401
+    except ImportError:
+        return None, "mpi4py cannot be imported (pip install '.[mpi]')"
+    here = Path(sys.executable).parent / "mpiexec"
+    found = str(here) if here.is_file() else shutil.which("mpiexec")
+    return found, "no mpiexec beside sys.executable or on PATH (pip install '.[mpi]')"
+
+
 def cli(
-    *args: str, env: dict[str, str] | None = None, timeout: float = 600, check: bool = False
+    *args: str,
+    env: dict[str, str] | None = None,
+    timeout: float = 600,
+    check: bool = False,
+    ranks: int = 1,
 ) -> subprocess.CompletedProcess:
-    """Run ``python -m peridynamics ARGS`` with the source tree importable."""
+    """Run ``python -m peridynamics ARGS`` with the source tree importable; under
+    ``mpiexec -n RANKS`` when ``ranks`` > 1."""
     full_env = dict(os.environ)
     src = str(ROOT / "src")
     full_env["PYTHONPATH"] = src + os.pathsep + full_env.get("PYTHONPATH", "")
     if env:
         full_env.update(env)
+    launch = [str(mpiexec()[0]), "-n", str(ranks)] if ranks > 1 else []
     proc = subprocess.run(
-        [sys.executable, "-m", "peridynamics", *args],
+        [*launch, sys.executable, "-m", "peridynamics", *args],
         capture_output=True,
         text=True,
         env=full_env,

@@ -320,12 +320,7 @@ class Model:
         fields = [state.u, state.v]
         for dof in self.force_model.dofs()[1:]:
             fields += [state[dof.value], state[dof.rate]]
-        pack = getattr(self.comm, "exchange_fields", None)
-        if pack is not None:  # one message per neighbour rank
-            pack(fields)
-        else:
-            for f in fields:
-                self.comm.exchange(f)
+        self.comm.exchange_fields(fields)  # one message per neighbour rank
 
     def _owned_broken(self, fused: bool) -> int:
         """Bonds of owned points broken by this evaluation (the ghosts of the first layer
@@ -339,7 +334,7 @@ class Model:
         proposed = getattr(law, "_proposed", None)
         if proposed is None:
             raise RuntimeError(f"the damage law {law.name!r} cannot count owned bonds")
-        return int(np.count_nonzero(proposed[: int(self.bonds.offsets[n_own])]))
+        return int(np.count_nonzero(proposed[: self.owned_bonds]))
 
     def _extras(self, state: State) -> None:
         """Contact, mass damping and viscous bond forces, added to ``state.force``."""
@@ -493,11 +488,22 @@ class Model:
         local = float(0.5 * np.sum(mass * np.sum(v[own] * v[own], axis=1)))
         return self.comm.sum(local)
 
+    @property
+    def owned_bonds(self) -> int:
+        """Directed bonds of the owned points' families: the first ``owned_bonds`` of the
+        list (all of them in a serial run; a rank of a decomposed run also holds the
+        families of its first ghost layer after them)."""
+        n_own = self.comm.n_owned
+        return self.bonds.n_bonds if n_own is None else int(self.bonds.offsets[n_own])
+
     def bond_counts(self, s: State) -> tuple[float, float]:
-        """(directed bonds broken during the run, directed bonds), over ranks: the
-        pre-cracked bonds count as neither."""
-        failed = int(np.count_nonzero(self.bonds.bond_intact)) - int(np.count_nonzero(s.intact))
-        return self.comm.sum(float(failed)), self.comm.sum(float(self.bonds.n_bonds))
+        """(directed bonds broken during the run, directed bonds) of the owned families,
+        over ranks: the pre-cracked bonds count as neither."""
+        end = self.owned_bonds
+        failed = int(np.count_nonzero(self.bonds.bond_intact[:end])) - int(
+            np.count_nonzero(s.intact[:end])
+        )
+        return self.comm.sum(float(failed)), self.comm.sum(float(end))
 
     def point_damage(
         self, intact: NDArray[np.uint8], interface_intact: NDArray[np.uint8] | None = None

@@ -195,9 +195,7 @@ class RunLoop:
     # -- the decomposed run's collective steps (no-ops or plain calls when serial) -------
     def _global_bonds(self) -> int:
         """Directed bonds of the whole body (owned families of every rank)."""
-        dist = self.session
-        end = int(self.model.bonds.offsets[dist.comm.n_owned])
-        return int(dist.comm.sum(float(end)))
+        return int(self.session.comm.sum(float(self.model.owned_bonds)))
 
     def _sync(self, state: State, broken: int, stop: bool) -> tuple[int, int, bool]:
         """(bonds broken by this step, bonds broken in the run, Ctrl-C somewhere) over

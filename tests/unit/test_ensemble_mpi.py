@@ -5,18 +5,15 @@ problem on the ranks gives one report and one exit code."""
 from __future__ import annotations
 
 import json
-import os
-import shutil
 import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
 from peridynamics.ensemble import assign
+from tests.helpers import EXAMPLES, cli, mpiexec
 
-ROOT = Path(__file__).resolve().parents[2]
-DECK = ROOT / "examples" / "rock_compression" / "flaw30_m2.yaml"
+DECK = EXAMPLES / "rock_compression" / "flaw30_m2.yaml"
 # 20 x 40 points (dx = 2.5 mm, 5 x the paper's), the paper's duration: about 1 s a run
 SMALL = [
     "--set", "discretisation.spacing=0.0025",
@@ -27,30 +24,13 @@ SMALL = [
 ENV = {"NUMBA_NUM_THREADS": "1"}
 
 
-def _mpiexec() -> tuple[str | None, str]:
-    """The mpiexec to use (beside this Python first, then on PATH), or why there is none."""
-    try:
-        import mpi4py  # noqa: F401
-    except ImportError:
-        return None, "mpi4py cannot be imported (pip install '.[mpi]')"
-    here = Path(sys.executable).parent / "mpiexec"
-    found = str(here) if here.is_file() else shutil.which("mpiexec")
-    return found, "no mpiexec beside sys.executable or on PATH (pip install '.[mpi]')"
-
-
-MPIEXEC, WHY = _mpiexec()
+MPIEXEC, WHY = mpiexec()
 needs_mpi = pytest.mark.skipif(MPIEXEC is None, reason=WHY)
 
 
 def _ensemble(*args: str, ranks: int = 2) -> subprocess.CompletedProcess:
     """``[mpiexec -n RANKS] python -m peridynamics ensemble ARGS`` on the source tree."""
-    env = dict(os.environ, **ENV)
-    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT / "src"), env.get("PYTHONPATH")]))
-    launch = [str(MPIEXEC), "-n", str(ranks)] if ranks > 1 else []
-    return subprocess.run(
-        [*launch, sys.executable, "-m", "peridynamics", "ensemble", *args],
-        capture_output=True, text=True, env=env, timeout=120,
-    )  # fmt: skip
+    return cli("ensemble", *args, env=ENV, timeout=120, ranks=ranks)
 
 
 def test_round_robin() -> None:

@@ -5,33 +5,15 @@ resumes after one rank dies, and refuses what it cannot do with the key to chang
 from __future__ import annotations
 
 import json
-import os
-import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from peridynamics.io.observers import read_bonds
+from tests.helpers import EXAMPLES, cli, mpiexec
 
-ROOT = Path(__file__).resolve().parents[2]
-EXAMPLES = ROOT / "examples"
-
-
-def _mpiexec() -> tuple[str | None, str]:
-    """The mpiexec to use (beside this Python first, then on PATH), or why there is none."""
-    try:
-        import mpi4py  # noqa: F401
-    except ImportError:
-        return None, "mpi4py cannot be imported (pip install '.[mpi]')"
-    here = Path(sys.executable).parent / "mpiexec"
-    found = str(here) if here.is_file() else shutil.which("mpiexec")
-    return found, "no mpiexec beside sys.executable or on PATH (pip install '.[mpi]')"
-
-
-MPIEXEC, WHY = _mpiexec()
+MPIEXEC, WHY = mpiexec()
 pytestmark = pytest.mark.skipif(MPIEXEC is None, reason=WHY)
 
 BRANCHING = [
@@ -70,13 +52,8 @@ output:
 
 def _run(*args: str, ranks: int = 1, env: dict[str, str] | None = None, timeout: int = 180):
     """``[mpiexec -n RANKS] python -m peridynamics run ARGS`` on the source tree."""
-    e = dict(os.environ, NUMBA_NUM_THREADS="1", **(env or {}))
-    e["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT / "src"), e.get("PYTHONPATH")]))
-    launch = [str(MPIEXEC), "-n", str(ranks)] if ranks > 1 else []
-    return subprocess.run(
-        [*launch, sys.executable, "-m", "peridynamics", "run", *args, "--quiet"],
-        capture_output=True, text=True, env=e, timeout=timeout,
-    )  # fmt: skip
+    env = {"NUMBA_NUM_THREADS": "1", **(env or {})}
+    return cli("run", *args, "--quiet", env=env, timeout=timeout, ranks=ranks)
 
 
 def _close(a: object, b: object, path: str = "results") -> list[str]:

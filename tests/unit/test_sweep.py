@@ -9,10 +9,6 @@ from __future__ import annotations
 
 import csv
 import json
-import os
-import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
@@ -21,8 +17,8 @@ from peridynamics.cli import main
 from peridynamics.sweep import assign
 from peridynamics.sweep_cases import Case, build_cases, split_values
 from peridynamics.sweep_report import flatten_scalars
+from tests.helpers import cli, mpiexec
 
-SRC = Path(__file__).resolve().parents[2] / "src"
 DECK = """\
 name: tiny_bar
 geometry: {type: bar, length: 0.1, area: 1.0e-4}
@@ -199,25 +195,13 @@ def test_values_names_and_assignment() -> None:
     assert flat == {"a": 1, "b.c": 2.5, "e": None, "f": 1}
 
 
-def _mpiexec() -> str | None:
-    try:
-        import mpi4py  # noqa: F401
-    except ImportError:
-        return None
-    here = Path(sys.executable).parent / "mpiexec"
-    return str(here) if here.is_file() else shutil.which("mpiexec")
-
-
-@pytest.mark.skipif(_mpiexec() is None, reason="needs mpi4py and mpiexec: pip install .[mpi]")
+@pytest.mark.skipif(mpiexec()[0] is None, reason=mpiexec()[1])
 def test_mpi_spreads_cases_over_ranks(grid_run: tuple[Path, Path], tmp_path: Path) -> None:
     deck, grid = grid_run
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [str(SRC),
-               os.environ.get("PYTHONPATH")])))  # fmt: skip
-    proc = subprocess.run(
-        [str(_mpiexec()), "-n", "2", sys.executable, "-m", "peridynamics", "sweep", str(deck),
-         "--grid", "discretisation.spacing=0.005,0.01", "--grid",
-         "discretisation.horizon_factor=3", "--out", str(tmp_path), "--quiet"],
-        capture_output=True, text=True, env=env, timeout=120,
+    proc = cli(
+        "sweep", str(deck), "--grid", "discretisation.spacing=0.005,0.01", "--grid",
+        "discretisation.horizon_factor=3", "--out", str(tmp_path), "--quiet",
+        timeout=120, ranks=2,
     )  # fmt: skip
     assert proc.returncode == 0, proc.stderr
     rows = read_csv(tmp_path / "sweep.csv")

@@ -715,7 +715,7 @@ def _write_rank_bonds(session: Any, out: str) -> list[str]:
     from peridynamics.parallel.session import rank_dir
 
     m, s, comm = session.model, session.state, session.comm
-    end = int(m.bonds.offsets[comm.n_owned])
+    end = m.owned_bonds
     folder = rank_dir(Path(out), comm.rank)
     folder.mkdir(parents=True, exist_ok=True)
     table = half_bonds(m.bonds, s.intact, end, m.cloud.global_ids)

@@ -153,14 +153,15 @@ class CrackLength(Observer):
         return []
 
 
-def _broken_pairs(model: Model, s: State) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+def broken_pairs(model: Model, s: State) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
     """End points (i, j) of the directed bonds broken during the run (pre-cracks
-    excluded), interface bonds included."""
+    excluded), interface bonds included; the owned families' bonds on a rank of a
+    decomposed run (local indices; the whole body's view gathers them in global ids)."""
     pairs = getattr(model, "broken_pairs", None)
-    if pairs is not None:  # a decomposed run (global ids)
+    if pairs is not None:  # the whole body's view of a decomposed run (global ids)
         return pairs()
-    b = model.bonds
-    k = np.flatnonzero(b.bond_intact.astype(bool) & (s.intact == 0))
+    b, end = model.bonds, model.owned_bonds
+    k = np.flatnonzero(b.bond_intact[:end].astype(bool) & (s.intact[:end] == 0))
     ii, jj = [b.bond_i[k]], [b.bond_j[k]]
     if _interfaces(model) and "interface_intact" in s:
         start = 0
@@ -190,7 +191,7 @@ def ridge_mask(
 
 def crack_ridge(model: Model, s: State, damage: NDArray[np.float64]) -> NDArray[np.bool_]:
     """:func:`ridge_mask` of the bonds broken during the run (pre-cracks excluded)."""
-    i, j = _broken_pairs(model, s)
+    i, j = broken_pairs(model, s)
     return ridge_mask(i, j, damage)
 
 

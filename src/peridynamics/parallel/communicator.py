@@ -60,12 +60,12 @@ class Communicator(Protocol):
         """Fill the ghost rows of a per-point ``field`` from their owners (in place)."""
         ...
 
-    def any(self, flag: bool) -> bool:
-        """True when ``flag`` is true on some rank."""
+    def exchange_fields(self, fields: list[NDArray]) -> None:
+        """:meth:`exchange` of several per-point fields in one message per neighbour."""
         ...
 
-    def gather_points(self, field: NDArray) -> NDArray:
-        """The owned rows of every rank in global point order, on every rank."""
+    def any(self, flag: bool) -> bool:
+        """True when ``flag`` is true on some rank."""
         ...
 
 
@@ -102,11 +102,11 @@ class SerialCommunicator:
     def exchange(self, field: NDArray) -> None:
         return None
 
+    def exchange_fields(self, fields: list[NDArray]) -> None:
+        return None
+
     def any(self, flag: bool) -> bool:
         return bool(flag)
-
-    def gather_points(self, field: NDArray) -> NDArray:
-        return field
 
 
 #: the communicator of serial runs

@@ -85,7 +85,15 @@ def ghost_points(
     x: NDArray[np.float64], owned: NDArray[np.intp], radius: float
 ) -> NDArray[np.intp]:
     """Global ids of the points not in ``owned`` within ``radius`` of an owned point,
-    sorted, shape (n_ghost,).
+    sorted, shape (n_ghost,) (:func:`ghost_distances` without the distances)."""
+    return ghost_distances(x, owned, radius)[0]
+
+
+def ghost_distances(
+    x: NDArray[np.float64], owned: NDArray[np.intp], radius: float
+) -> tuple[NDArray[np.intp], NDArray[np.float64]]:
+    """Global ids of the points not in ``owned`` within ``radius`` of an owned point,
+    sorted, shape (n_ghost,), and their distance to the nearest owned point (m).
 
     Parameters
     ----------
@@ -100,10 +108,22 @@ def ghost_points(
     near = np.all((x >= lo) & (x <= hi), axis=1) & ~mine
     cand = np.flatnonzero(near)
     if cand.size == 0:
-        return cand
+        return cand, np.zeros(0)
     tree = cKDTree(x[owned])
     dist, _ = tree.query(x[cand], k=1, distance_upper_bound=radius * (1 + 1e-12))
-    return cand[np.isfinite(dist)]
+    within = np.isfinite(dist)
+    return cand[within], dist[within]
+
+
+def find_sorted(
+    sorted_ids: NDArray[np.integer], members: NDArray[np.integer]
+) -> tuple[NDArray[np.intp], NDArray[np.bool_]]:
+    """Positions of ``members`` in the sorted array ``sorted_ids`` and which of them are
+    there at all (bool mask); positions of the others are meaningless."""
+    pos = np.searchsorted(sorted_ids, members)
+    hit = pos < len(sorted_ids)
+    hit[hit] = sorted_ids[pos[hit]] == members[hit]
+    return pos, hit
 
 
 @dataclass(frozen=True)

@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.bonds.search import neighbour_counts
 from peridynamics.geometry.cloud import PointCloud
-from peridynamics.parallel.decompose import Layout, ghost_points, rcb_partition
+from peridynamics.parallel.decompose import Layout, find_sorted, ghost_distances, rcb_partition
 
 
 def decompose(
@@ -61,11 +61,9 @@ def decompose(
     weights = neighbour_counts(cloud.x, search_radius).astype(np.float64) + 1.0
     part = rcb_partition(cloud.x, weights, size)
     owned = np.flatnonzero(part == rank)
-    ghosts = ghost_points(cloud.x, owned, ghost_radius)
-    if ghost_families:
-        first = np.isin(ghosts, ghost_points(cloud.x, owned, search_radius))
-    else:
-        first = np.zeros(len(ghosts), dtype=bool)
+    ghosts, dist = ghost_distances(cloud.x, owned, ghost_radius)
+    # the first layer: within the search radius (the bound ghost_points applies)
+    first = dist <= search_radius * (1 + 1e-12) if ghost_families else np.zeros(len(ghosts), bool)
     ghosts = np.concatenate([ghosts[first], ghosts[~first]])
     recv, send = build_exchange_lists(comm, part, owned, ghosts)
     layout = Layout(rank, size, part, np.concatenate([owned, ghosts]), len(owned), recv, send)
@@ -82,9 +80,7 @@ def local_cloud(cloud: PointCloud, layout: Layout) -> PointCloud:
     sorted_ids = ids[order]
     sets = {}
     for name, members in cloud.node_sets.items():
-        pos = np.searchsorted(sorted_ids, members)
-        hit = pos < len(ids)
-        hit[hit] = sorted_ids[pos[hit]] == members[hit]
+        pos, hit = find_sorted(sorted_ids, members)
         sets[name] = np.sort(order[pos[hit]]).astype(np.intp)
     return replace(
         cloud,
@@ -126,16 +122,7 @@ def own_families(bonds: Bonds, cloud: PointCloud, n_owned: int) -> Bonds:
     bond_j = np.ascontiguousarray(bonds.bond_j[:end])
     intact = np.ascontiguousarray(bonds.bond_intact[:end])
     _sort_families(offsets[: n_owned + 1], bond_j, intact, cloud.global_ids)
-    return Bonds(
-        offsets=offsets,
-        bond_j=bond_j,
-        bond_intact=intact,
-        horizon=bonds.horizon,
-        partial_volume=bonds.partial_volume,
-        x=cloud.x,
-        point_volume=cloud.volume,
-        spacing=bonds.spacing,
-    )
+    return bonds.replace(offsets=offsets, bond_j=bond_j, bond_intact=intact)
 
 
 def localize_condition(cond: Any, owned_ids: NDArray[np.intp]) -> Any:
@@ -144,9 +131,7 @@ def localize_condition(cond: Any, owned_ids: NDArray[np.intp]) -> Any:
     the global cloud keeps what depends on the whole node set (the layer thickness of a
     traction, a cavity's pressure layer) as in the serial run."""
     nodes = np.asarray(cond.nodes)
-    pos = np.searchsorted(owned_ids, nodes)
-    hit = pos < len(owned_ids)
-    hit[hit] = owned_ids[pos[hit]] == nodes[hit]
+    pos, hit = find_sorted(owned_ids, nodes)
     changes: dict[str, Any] = {"nodes": pos[hit].astype(np.intp)}
     for f in fields(cond):
         value = getattr(cond, f.name)

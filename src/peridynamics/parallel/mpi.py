@@ -135,23 +135,10 @@ class MPICommunicator:
         self.exchanges += 1
 
     # -- gathers -------------------------------------------------------------------------
-    def gather_points(self, field: NDArray) -> NDArray:
-        """The owned rows of a per-point ``field`` of every rank, in global point order,
-        on every rank: shape (n_global, ...) (``Allgatherv``; observers use it for the
-        analyses of a whole field)."""
-        own = np.ascontiguousarray(field[: self.n_owned])
-        tail = own.shape[1:]
-        width = int(np.prod(tail)) if tail else 1
-        flat = own.reshape(-1)
-        out = np.empty(self.n_global * width, dtype=own.dtype)
-        self.comm.Allgatherv(flat, [out, self._counts * width, self._displs * width, None])
-        by_rank = out.reshape((self.n_global, *tail))
-        glob = np.empty_like(by_rank)
-        glob[self._order] = by_rank
-        return glob
-
     def gather_points_root(self, field: NDArray) -> NDArray | None:
-        """As :meth:`gather_points`, on rank 0 only (``Gatherv``); ``None`` elsewhere."""
+        """The owned rows of a per-point ``field`` of every rank, in global point order,
+        on rank 0: shape (n_global, ...) (``Gatherv``; observers read whole fields);
+        ``None`` elsewhere."""
         own = np.ascontiguousarray(field[: self.n_owned])
         tail = own.shape[1:]
         width = int(np.prod(tail)) if tail else 1
@@ -177,7 +164,7 @@ def build_exchange_lists(
 ) -> tuple[dict[int, NDArray[np.intp]], dict[int, NDArray[np.intp]]]:
     """The receive and send lists of a rank (local indices), agreed with one
     ``alltoall`` of the ghost ids each rank needs from each owner."""
-    from peridynamics.parallel.decompose import receive_lists
+    from peridynamics.parallel.decompose import find_sorted, receive_lists
 
     size = int(comm.Get_size())
     n_owned = len(owned)
@@ -190,8 +177,8 @@ def build_exchange_lists(
     for q, gids in enumerate(wanted):
         if gids is None or len(gids) == 0:
             continue
-        local = np.searchsorted(owned, gids)
-        if np.any(local >= n_owned) or np.any(owned[np.minimum(local, n_owned - 1)] != gids):
+        local, held = find_sorted(owned, gids)
+        if not held.all():
             raise RuntimeError(f"rank {q} asked for points this rank does not own")
         send[q] = local.astype(np.intp)
     return recv, send

@@ -61,7 +61,7 @@ class Session:
             "gather": self._gather,
             "damage": self._damage,
             "energies": lambda: self.model.state_energies(self._local()),
-            "bond_counts": self._bond_counts,
+            "bond_counts": lambda: self.model.bond_counts(self._local()),
             "sed_field": self._sed_field,
             "attr": self._attr,
             "crack": self._crack,
@@ -104,15 +104,6 @@ class Session:
         flags = m.bonds.bond_intact if initial else s.intact
         return self._to_root(m.point_damage(flags, s.fields.get("interface_intact")))
 
-    def _bond_counts(self) -> tuple[float, float]:
-        """(bonds broken during the run, bonds) of the owned families, summed."""
-        m, s = self.model, self._local()
-        end = int(m.bonds.offsets[self.comm.n_owned])
-        failed = int(np.count_nonzero(m.bonds.bond_intact[:end])) - int(
-            np.count_nonzero(s.intact[:end])
-        )
-        return self.comm.sum(float(failed)), self.comm.sum(float(end))
-
     def _sed_field(self, u_global: NDArray) -> NDArray | None:
         """Strain-energy density of a whole-body displacement (every rank got it with
         the request), gathered on rank 0."""
@@ -144,7 +135,7 @@ class Session:
             self._meter = build_meter(m, self._orientation_table())
         flags = all_intact(m, s)
         idx, w = self._meter.weights(flags, separating=separating, exchange=self.comm.exchange)
-        keep = idx < int(m.bonds.offsets[self.comm.n_owned])
+        keep = idx < m.owned_bonds
         idx, w = idx[keep], w[keep]
         if what == "measure":
             return self.comm.sum(float(w.sum()))
@@ -186,14 +177,12 @@ class Session:
         return comm.comm.bcast(table, root=0)
 
     def _broken_pairs(self) -> tuple[NDArray[np.intp], NDArray[np.intp]] | None:
-        m, s = self.model, self._local()
-        end = int(m.bonds.offsets[self.comm.n_owned])
-        b = m.bonds
-        k = np.flatnonzero(b.bond_intact[:end].astype(bool) & (s.intact[:end] == 0))
-        gid = m.cloud.global_ids
-        i = gid[b.bond_range("bond_i", 0, end)[k]] if end else np.zeros(0, np.int64)
-        j = gid[b.bond_j[k]]
-        parts = self.comm.comm.gather((i, j), root=0)
+        """The owned bonds broken during the run, in global ids, on rank 0."""
+        from peridynamics.io.observers_cracks import broken_pairs
+
+        i, j = broken_pairs(self.model, self._local())
+        gid = self.model.cloud.global_ids
+        parts = self.comm.comm.gather((gid[i], gid[j]), root=0)
         if not self.root:
             return None
         return (
