@@ -253,6 +253,8 @@ def cmd_run(args: argparse.Namespace) -> int:
     if args.resume and not Path(args.resume).is_dir():
         _err(f"--resume: no run folder {args.resume!r}")
         return EXIT_INVALID
+    if getattr(args, "backend", None):
+        args.set = [*(args.set or []), f"solver.backend={args.backend}"]
     deck = _load(args)
     if deck is None:
         return EXIT_INVALID
@@ -708,6 +710,12 @@ def build_parser() -> argparse.ArgumentParser:
         "(default 0: none; with --resume: the interval of the original run)",
     )
     r.add_argument("--resume", metavar="DIR", help="continue from the checkpoint in DIR")
+    r.add_argument(
+        "--backend",
+        choices=["numba", "warp"],
+        help="compute backend of the explicit step (sets solver.backend; warp: pip install "
+        "'peridynamics[gpu]', its CUDA device when there is one, else its CPU device)",
+    )
     large_arg(r)
     r.set_defaults(func=cmd_run)
 

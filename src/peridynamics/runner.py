@@ -273,6 +273,8 @@ def build_solver(
     s = deck.solver
     try:
         if isinstance(s, dk.Solver):
+            if s.backend == "warp":
+                return _warp_solver(deck, model, kin, init)
             if s.hybrid is not None:
                 if s.precision != "float64":
                     raise SetupError("solver.precision", "a hybrid run is float64 only")
@@ -288,6 +290,38 @@ def build_solver(
     except ValueError as exc:
         key = "solver.time_step" if isinstance(s, dk.Solver) else "solver"
         raise SetupError(key, str(exc)) from None
+
+
+def _warp_solver(deck: dk.Deck, model: Model, kin: list, init: list) -> Solver:
+    """``solver.backend: warp``: the explicit step on a Warp device
+    (:class:`~peridynamics.backends.warp_solver.WarpExplicitSolver`); what the backend
+    does not run is refused by its deck key."""
+    s = deck.solver
+    assert isinstance(s, dk.Solver)
+    for key, bad, why in (
+        ("solver.hybrid", s.hybrid is not None, "hybrid runs are on the Numba backend only"),
+        ("solver.method", s.method != "pd", "the FDM solver is on the Numba backend only"),
+        ("solver.precision", s.precision != "float64", "the Warp backend is float64"),
+    ):
+        if bad:
+            raise SetupError(key, f"{why}; remove it or set solver.backend: numba")
+    from peridynamics.backends.warp_device import require_warp
+    from peridynamics.backends.warp_families import unsupported
+
+    try:
+        require_warp()
+    except ImportError as exc:
+        raise SetupError("solver.backend", str(exc)) from None
+    got = unsupported(model, s.integrator)
+    if got is not None:
+        raise SetupError(got[0], f"{got[1]}; use solver.backend: numba (the default)")
+    from peridynamics.backends.warp_solver import WarpExplicitSolver
+
+    options = _solver_options(s, kin, init, s.time_step)
+    try:
+        return WarpExplicitSolver(model, device=s.device, **options)
+    except ValueError as exc:
+        raise SetupError("solver.device", str(exc)) from None
 
 
 def _set_precision(model: Model, precision: str) -> None:

@@ -11,7 +11,9 @@ except ImportError:  # pragma: no cover - exercised where warp-lang is absent
 
 
 if wp is not None:
-    wp.config.quiet = True
+    wp.config.quiet = True  # Warp < 1.19
+    if hasattr(wp, "LOG_WARNING"):  # Warp >= 1.19: no banner, no module-load lines
+        wp.config.log_level = wp.LOG_ERROR
 
     @wp.kernel
     def _pmb_force_break(  # pragma: no cover - compiled by Warp

@@ -756,6 +756,8 @@ class Solver(Strict):
     check_every: Annotated[int, Field(gt=0), _Num] = 10
     damping: NonNegFloat = 0.0  # mass-proportional damping coefficient (1/s)
     precision: Literal["float64", "float32"] = "float64"
+    backend: Literal["numba", "warp"] = "numba"
+    device: Literal["auto", "cuda", "cpu"] = "auto"
 
     @model_validator(mode="after")
     def _length(self) -> Solver:

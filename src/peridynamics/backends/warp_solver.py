@@ -1,0 +1,334 @@
+"""Explicit dynamics on a Warp device (``solver.backend: warp``).
+
+:class:`WarpExplicitSolver` is the :class:`~peridynamics.solvers.explicit.ExplicitSolver`
+(same time step, stability limit, run length, checks and messages) with the step done
+on the device: the integrator, the kinematic conditions, the body-force loads, the model
+family's force pass with its damage law (:mod:`peridynamics.backends.warp_families`),
+contact, mass damping and viscosity run as Warp kernels on arrays that stay on the
+device. The State the run loop and the observers hold mirrors the device lazily
+(:class:`MirrorFields`): a field is copied back the first time it is read after a step,
+so observers copy back only at their interval. Per step the host reads one integer
+(bonds broken); every ``check_every`` steps one more (the first unsound point).
+
+The set-up (bond list, stiffness, surface correction, first force evaluation) is the
+host's; the state at t = 0 is uploaded once.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from peridynamics.backends import _warp_step_dsl as k
+from peridynamics.backends.warp_device import DeviceModel, DeviceState, pick_device, to_device
+from peridynamics.backends.warp_families import device_terms
+from peridynamics.loading.conditions import (
+    COMPONENTS,
+    Fixed,
+    PrescribedDisplacement,
+    PrescribedVelocity,
+)
+from peridynamics.solvers.base import StepResult
+from peridynamics.solvers.explicit import ExplicitSolver
+from peridynamics.state import State
+
+
+class MirrorFields(dict):  # type: ignore[type-arg]
+    """The fields of a State whose arrays live on a device: host arrays refreshed from
+    the device on first read after :meth:`mark_stale` (a step)."""
+
+    def __init__(self, host: dict[str, NDArray], ds: DeviceState) -> None:
+        super().__init__(host)
+        self._ds = ds
+        self._stale: set[str] = set()
+        #: device-to-host copies made (bytes), for the summary
+        self.copied_bytes = 0
+
+    def mark_stale(self) -> None:
+        """Every device field changed (after a step)."""
+        self._stale = set(self._ds.fields)
+
+    def __getitem__(self, name: str) -> Any:
+        a = super().__getitem__(name)
+        if name in self._stale:
+            self._ds.download(name, a)
+            self.copied_bytes += a.nbytes
+            self._stale.discard(name)
+        return a
+
+    def get(self, name: str, default: Any = None) -> Any:
+        return self[name] if name in self else default
+
+    def __iter__(self) -> Any:  # a Python-level iterator: dict(m) goes through []
+        return iter(list(super().keys()))
+
+    def items(self) -> Any:
+        return [(name, self[name]) for name in list(super().keys())]
+
+    def values(self) -> Any:
+        return [self[name] for name in list(super().keys())]
+
+
+@dataclass
+class WarpExplicitSolver(ExplicitSolver):
+    """:class:`ExplicitSolver` stepping on a Warp device.
+
+    Parameters
+    ----------
+    device : {"auto", "cuda", "cpu"}
+        Warp's CUDA device when there is one (``auto``), else its CPU device.
+    Other parameters: :class:`~peridynamics.solvers.explicit.ExplicitSolver`.
+    """
+
+    device: str = "auto"
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        self.device_name = pick_device(self.device)
+        self.dm = DeviceModel(self.model, self.device_name)
+        self.family, self.extras = device_terms(self.model, self.dm)
+        inv = 1.0 / np.asarray(self.model.density, dtype=np.float64)
+        self._inv_mass_d = self.dm.upload("inv_mass", inv)
+        w = self.dm.wp
+        self._total = self.dm.zeros(1, w.int64)
+        self._loads = [
+            (
+                self.dm.upload(f"load{n}_nodes", np.asarray(b.nodes, dtype=np.int32)),
+                self.dm.upload(f"load{n}_value", _per_node(b.value, len(b.nodes), self.model.dim)),
+                b.function,
+            )
+            for n, b in enumerate(self.model.body_forces)
+        ]
+        self._kinematic = [
+            (c, self.dm.upload(f"bc{n}_nodes", np.asarray(c.nodes, dtype=np.int32)))
+            for n, c in enumerate(self.constraints)
+        ]
+        self._stretch = self.dm.zeros(self.dm.n, w.float64)
+        self._shift = self.dm.zeros(self.model.dim, w.float64)
+        self._first = self.dm.zeros(1, w.int32)
+        self.ds: DeviceState | None = None
+        self._good: dict[str, Any] | None = None
+        self._good_scalars: tuple[float, int, int, int] = (0.0, 0, 0, 0)
+
+    # -- life cycle --------------------------------------------------------------
+    def init(self) -> State:
+        """The host's state at t = 0 (initial velocities, constraints, forces), uploaded;
+        the returned State mirrors the device."""
+        s = super().init()
+        self._attach(s)
+        return s
+
+    def resume(self, state: State) -> None:
+        """Continue from a State read from a checkpoint (uploaded to the device)."""
+        super().resume(state)
+        self._attach(state)
+
+    def _attach(self, s: State) -> None:
+        host = dict(s.fields)
+        self.ds = DeviceState(self.dm, s)
+        s.fields = MirrorFields(host, self.ds)
+        self.family.attach(self.ds)
+        self._keep_good(s)
+
+    def describe(self) -> str:
+        """dt, stable limit, steps and the device."""
+        return f"{super().describe()}, Warp device {self.device_name}"
+
+    def summary_fields(self, state: State) -> dict[str, Any]:
+        """Time step, stable limit, backend and device."""
+        out = super().summary_fields(state)
+        out["backend"] = "warp"
+        out["device"] = self.device_name
+        fields = state.fields
+        if isinstance(fields, MirrorFields):
+            out["device_to_host_bytes"] = int(fields.copied_bytes)
+        return out
+
+    def _warm_up(self, d: int) -> None:
+        """Nothing to compile on the host for the stepping (Warp compiles on first
+        launch, or loads its kernel cache)."""
+
+    # -- one step ------------------------------------------------------------------
+    def step(self, s: State) -> StepResult:
+        """Advance one step on the device (the order of :meth:`ExplicitSolver.step`)."""
+        ds, dm, dt = self.ds, self.dm, self.dt
+        assert ds is not None, "init() or resume() first"
+        n = dm.n
+        t_new = (s.step + 1) * dt
+        wdt = dm.wp.float64(dt)
+        vv = self.integrator == "velocity_verlet"
+        if vv:
+            dm.launch(k.kick_drift, n, [ds.u, ds.v, ds.force, ds.body, self._inv_mass_d, wdt])
+        else:
+            dm.launch(
+                k.central_difference,
+                n,
+                [ds.u, ds.u_prev, ds.v, ds.force, ds.body, self._inv_mass_d, wdt],
+            )
+        self._constrain(t_new, velocities_only=False)
+        self.family.evaluate(ds, True)
+        for extra in self.extras:
+            extra.add(ds)
+        self._loads_at(t_new)
+        if self._friction:  # the State's friction work (J), as Model.add_friction_work
+            for extra in self.extras:
+                power = getattr(extra, "power", None)
+                if power is not None:
+                    dm.launch(k.add_friction_work, n, [power, wdt, ds.friction_work])
+        if vv:
+            dm.launch(k.kick, n, [ds.v, ds.force, ds.body, self._inv_mass_d, wdt])
+        else:
+            dm.launch(
+                k.end_of_step_velocity,
+                n,
+                [ds.u, ds.u_prev, ds.v, ds.force, ds.body, self._inv_mass_d, wdt],
+            )
+        self._constrain(t_new, velocities_only=True)
+        broken = self._broken_count()
+        s.bonds_broken += broken
+        s.step += 1
+        s.t = t_new
+        fields = s.fields
+        assert isinstance(fields, MirrorFields)
+        fields.mark_stale()
+        if s.step % self.check_every == 0:
+            self.check(s)
+        return StepResult(broken=broken)
+
+    def _broken_count(self) -> int:
+        if not self.family.breaks:
+            return 0
+        ds, dm = self.ds, self.dm
+        assert ds is not None
+        self._total.zero_()
+        dm.launch(k.count_broken, dm.n, [ds.broken, self._total])
+        return int(self._total.numpy()[0])
+
+    def _loads_at(self, t: float) -> None:
+        """Body-force loads at t (host: :meth:`Model.external_force`)."""
+        ds, dm = self.ds, self.dm
+        assert ds is not None
+        if not self._loads:
+            return
+        ds.body.zero_()
+        for nodes, value, function in self._loads:
+            dm.launch(k.add_load, len(nodes), [nodes, value, dm.wp.float64(function(t)), ds.body])
+
+    def _constrain(self, t: float, velocities_only: bool) -> None:
+        """The kinematic conditions after the drift (positions at t) or after the second
+        kick (velocities at t), as :meth:`ExplicitSolver.step`."""
+        ds, dm, dt = self.ds, self.dm, self.dt
+        assert ds is not None
+        f64 = dm.wp.float64
+        for c, nodes in self._kinematic:
+            m = len(nodes)
+            if m == 0:
+                continue
+            if isinstance(c, PrescribedVelocity):
+                if velocities_only:
+                    now = c.function(t)
+                    for comp, val in _values(c.values):
+                        dm.launch(k.set_velocity, m, [nodes, comp, f64(val * now), ds.v])
+                else:
+                    mid, now = c.function(t - 0.5 * dt), c.function(t)
+                    for comp, val in _values(c.values):
+                        dm.launch(
+                            k.drive_velocity,
+                            m,
+                            [nodes, comp, f64(val * mid), f64(val * now), f64(dt), ds.u, ds.v],
+                        )
+            elif isinstance(c, PrescribedDisplacement):
+                f_now, f_old = c.function(t), c.function(t - dt)
+                for comp, val in _values(c.values):
+                    dm.launch(
+                        k.set_displacement,
+                        m,
+                        [
+                            nodes,
+                            comp,
+                            f64(val * f_now),
+                            f64(val * (f_now - f_old) / dt),
+                            ds.u,
+                            ds.v,
+                        ],
+                    )
+            elif isinstance(c, Fixed):
+                names = (
+                    tuple(x for x in c.components if x != "rotation")
+                    if c.components
+                    else tuple(COMPONENTS)[: dm.dim]
+                )
+                for name in names:
+                    dm.launch(
+                        k.set_displacement,
+                        m,
+                        [nodes, COMPONENTS[name], f64(0.0), f64(0.0), ds.u, ds.v],
+                    )
+
+    # -- checks --------------------------------------------------------------------
+    def check(self, s: State) -> None:
+        """The stability check of :meth:`ExplicitSolver.check` on the device: one
+        reduction to the host; only an unsound state is copied back (then the host's
+        check words the error)."""
+        ds, dm = self.ds, self.dm
+        if ds is None:
+            super().check(s)
+            return
+        w = dm.wp
+        self._shift.zero_()
+        dm.launch(k.sum_columns, dm.n, [ds.u, self._shift])
+        self.family.max_stretch(ds, self._stretch)
+        self._first.fill_(np.iinfo(np.int32).max)
+        limit = w.float64(self._blowup_limit)
+        scale = 1.0 / dm.n
+        shift = to_device(self._shift.numpy() * scale, dm.device)
+        dm.launch(
+            k.first_bad_point,
+            dm.n,
+            [ds.u, ds.v, shift, limit, self._stretch, w.float64(self.max_stretch), self._first],
+        )
+        if int(self._first.numpy()[0]) != np.iinfo(np.int32).max:
+            self.last_good = self._good_state(s)
+            super().check(s)  # reads the mirrored fields, raises with the host's message
+        self._keep_good(s)
+
+    def _keep_good(self, s: State) -> None:
+        """A device copy of the state (the last good one, turned into a host State only
+        when the run goes unstable)."""
+        ds = self.ds
+        assert ds is not None
+        w = self.dm.wp
+        if self._good is None:
+            self._good = {name: w.clone(a) for name, a in ds.fields.items()}
+        else:
+            for name, a in ds.fields.items():
+                w.copy(self._good[name], a)
+        self._good_scalars = (s.t, s.step, s.bonds_broken, s.phase)
+
+    def _good_state(self, s: State) -> State:
+        assert self._good is not None
+        t, step, broken, phase = self._good_scalars
+        fields = {name: a.numpy().copy() for name, a in self._good.items()}
+        for name, a in s.fields.items():  # host-only fields (none in practice)
+            fields.setdefault(name, np.array(a))
+        return State(t, step, broken, phase, **fields)
+
+
+def _values(values: Any) -> list[tuple[int, float]]:
+    return [(COMPONENTS[name], float(v)) for name, v in values.items()]
+
+
+def _per_node(value: Any, m: int, dim: int) -> NDArray[np.float64]:
+    """A load's value as one row per node, (m, dim)."""
+    val = np.asarray(value, dtype=np.float64)
+    if val.shape == (dim,):
+        return np.ascontiguousarray(np.broadcast_to(val, (m, dim)))
+    if val.shape != (m, dim):
+        raise ValueError(
+            f"body force needs {dim} components (one vector, or one per node), got shape "
+            f"{val.shape}"
+        )
+    return np.ascontiguousarray(val)
