@@ -12,6 +12,9 @@ from __future__ import annotations
 from peridynamics.backends._warp_dsl import wp
 
 if wp is not None:
+    # no FMA contraction: the CUDA device then gives the CPU device's bits (and the
+    # Numba kernels' decisions); see docs/gpu.md
+    wp.set_module_options({"fuse_fp": False})
 
     @wp.func
     def _dist_sq(  # pragma: no cover - compiled by Warp

@@ -11,6 +11,9 @@ except ImportError:  # pragma: no cover - exercised where warp-lang is absent
 
 
 if wp is not None:
+    # no FMA contraction: the CUDA device then gives the CPU device's bits (and the
+    # Numba kernels' decisions); see docs/gpu.md
+    wp.set_module_options({"fuse_fp": False})
     wp.config.quiet = True  # Warp < 1.19
     if hasattr(wp, "LOG_WARNING"):  # Warp >= 1.19: no banner, no module-load lines
         wp.config.log_level = wp.LOG_ERROR
