@@ -86,8 +86,10 @@ def measure_case(dim: int, n_side: int, steps: int, cpu_steps: int, device: str)
     wp.copy(ds.v, wp.array(rng.normal(scale=1e-3, size=(model.n_points, dim)),
                            dtype=wp.float64, device=ws.device_name))  # fmt: skip
 
+    name = ws.device_name
+
     def sync() -> None:
-        wp.synchronize_device(ws.device_name)
+        wp.synchronize_device(name)
 
     step_s = _time_steps(ws, state, steps, sync)
     fam = ws.family
