@@ -102,6 +102,13 @@ def test_branching_same_damage(tmp_path: Path) -> None:
     assert sw["results"]["crack_length_m"] == pytest.approx(sn["results"]["crack_length_m"], 1e-12)
 
 
+@pytest.mark.parametrize("deck", ["bar_wave_1d/deck.yaml", "spalling/test_bar_pd3.yaml"])
+def test_one_dimensional_bars(tmp_path: Path, deck: str) -> None:
+    path = EXAMPLES / deck
+    over = ["output.plot=none", "output.vtk_every=0"]
+    _compare(tmp_path, lambda extra: load_deck(path, overrides=over + extra))
+
+
 def _text_deck(text: str, extra: list[str]):
     import yaml
 

@@ -84,14 +84,14 @@ if wp is not None:
     ) -> None:
         i = wp.tid()
         total = wp.float64(0.0)
-        kept = wp.float64(0.0)
+        lost = wp.float64(0.0)
         k = offsets[i]
         end = offsets[i + 1]
-        while k < end:
+        while k < end:  # (broken partial volume) / (partial volume): the Numba bits
             total += bond_volume[k]
-            if intact[k] != wp.uint8(0):
-                kept += bond_volume[k]
+            if intact[k] == wp.uint8(0):
+                lost += bond_volume[k]
             k += wp.int64(1)
         out[i] = wp.float64(0.0)
         if total > wp.float64(0.0):
-            out[i] = wp.float64(1.0) - kept / total
+            out[i] = lost / total

@@ -118,8 +118,6 @@ def unsupported(model: Any, integrator: str = "velocity_verlet") -> tuple[str, s
         return "rigid_bodies", "rigid bodies are not on the Warp backend"
     if len(fm.dofs()) > 1:
         return "material.model", f"the {fm.name!r} model (rotations) is not on the Warp backend"
-    if model.dim == 1:
-        return "geometry", "1-D bars run on the Numba backend only"
     if type(fm) is PMBForceModel:
         if fm.precision != "float64":
             return "solver.precision", "the Warp backend is float64"

@@ -23,6 +23,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.backends import _warp_step_dsl as k
+from peridynamics.backends._warp_dsl import _damage
 from peridynamics.backends.warp_device import DeviceModel, DeviceState, pick_device, to_device
 from peridynamics.backends.warp_families import device_terms
 from peridynamics.loading.conditions import (
@@ -110,6 +111,7 @@ class WarpExplicitSolver(ExplicitSolver):
         self._shift = self.dm.zeros(self.model.dim, w.float64)
         self._first = self.dm.zeros(1, w.int32)
         self.ds: DeviceState | None = None
+        self._damage: Any = None
         self._good: dict[str, Any] | None = None
         self._good_scalars: tuple[float, int, int, int] = (0.0, 0, 0, 0)
 
@@ -267,6 +269,22 @@ class WarpExplicitSolver(ExplicitSolver):
                         m,
                         [nodes, COMPONENTS[name], f64(0.0), f64(0.0), ds.u, ds.v],
                     )
+
+    def point_damage(self, s: State) -> NDArray[np.float64] | None:
+        """Local damage (n,) reduced on the device (the bond flags stay there), the
+        bits of :meth:`Model.point_damage`; None before :meth:`init`."""
+        ds, dm = self.ds, self.dm
+        if ds is None:
+            return None
+        if self._damage is None:
+            self._damage = dm.zeros(dm.n, dm.wp.float64)
+        volume = dm.upload("bond_volume", np.asarray(self.model.bonds.bond_volume))
+        dm.launch(_damage, dm.n, [dm.offsets, volume, ds.intact, self._damage])
+        out: NDArray[np.float64] = self._damage.numpy().copy()
+        fields = s.fields
+        if isinstance(fields, MirrorFields):
+            fields.copied_bytes += out.nbytes
+        return out
 
     # -- checks --------------------------------------------------------------------
     def check(self, s: State) -> None:

@@ -79,7 +79,10 @@ class RunContext:
         got = self.damage_cache.get(s.step)
         if got is None:
             self.damage_cache.clear()
-            got = self.model.point_damage(s.intact, s.fields.get("interface_intact"))
+            on_device = getattr(self.solver, "point_damage", None)  # the Warp backend's
+            got = on_device(s) if on_device is not None else None
+            if got is None:
+                got = self.model.point_damage(s.intact, s.fields.get("interface_intact"))
             self.damage_cache[s.step] = got
         return got
 
