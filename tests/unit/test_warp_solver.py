@@ -91,6 +91,11 @@ def _compare(tmp: Path, make, tol: float = 1e-10) -> tuple[dict, dict]:
         scale = float(np.abs(fn[name]).max())
         assert scale > 0
         assert np.abs(fw[name] - fn[name]).max() <= tol * scale, name
+    hn, hw = sn["results"]["history"], sw["results"]["history"]
+    for name in ("strain_energy_J", "kinetic_energy_J"):  # outputs see the device's state
+        a, b = np.asarray(hn[name]), np.asarray(hw[name])
+        assert a.shape == b.shape and a.max() > 0, name
+        assert np.abs(a - b).max() <= 1e-8 * a.max(), name
     return sn, sw
 
 

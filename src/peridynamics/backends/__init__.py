@@ -1,7 +1,10 @@
-"""Compute backends beside the Numba kernels (issue "GPU backend", in progress).
+"""Compute backends beside the Numba kernels: NVIDIA Warp (``solver.backend: warp``).
 
-:mod:`peridynamics.backends.warp_kernels` holds NVIDIA Warp versions of the explicit
-PMB kernels (Warp's CUDA device when there is one, its CPU device otherwise); they are
-tested against the Numba kernels and their NumPy twins on the CPU device. They are not
-yet wired into the solvers (no ``solver.backend`` key yet).
+:mod:`~peridynamics.backends.warp_solver` is the explicit solver stepping on a Warp
+device (its CUDA device when there is one, its CPU device otherwise);
+:mod:`~peridynamics.backends.warp_device` holds the device arrays and the seam of a
+model family on the device; the families and extras are in ``warp_families``,
+``warp_lps``, ``warp_correspondence``, ``warp_extras``, ``warp_contact`` and
+``warp_damage``; the kernel sources in the ``_warp_*_dsl`` modules. Nothing here is
+imported unless a run asks for the Warp backend (extra ``[gpu]``: warp-lang).
 """

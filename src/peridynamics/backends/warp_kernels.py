@@ -7,8 +7,8 @@ the bond vector is formed as (x_j - x_i) + (u_j - u_i) and the squares are summe
 component order (exactly antisymmetric, the same bits). Nothing is written to another
 point's data, so no atomics. Float64 throughout.
 
-Status: groundwork for the issue "GPU backend" — kernels and their tests; the solver
-integration (device-resident State, loads, observers) is not built yet.
+These host-in/host-out wrappers serve tests and scripts; the solver keeps the arrays on
+the device (:mod:`peridynamics.backends.warp_solver`).
 """
 
 from __future__ import annotations

@@ -41,18 +41,26 @@ class MirrorFields(dict):  # type: ignore[type-arg]
     """The fields of a State whose arrays live on a device: host arrays refreshed from
     the device on first read after :meth:`mark_stale` (a step)."""
 
-    def __init__(self, host: dict[str, NDArray], ds: DeviceState) -> None:
+    def __init__(self, host: dict[str, NDArray], ds: DeviceState, on_read: Any = None) -> None:
         super().__init__(host)
         self._ds = ds
         self._stale: set[str] = set()
+        #: called once on the first read after a step (the host model's SED stiffness
+        #: follows the levels then, for outputs that read the stiffness)
+        self._on_read = on_read
+        self._pending = False
         #: device-to-host copies made (bytes), for the summary
         self.copied_bytes = 0
 
     def mark_stale(self) -> None:
         """Every device field changed (after a step)."""
         self._stale = set(self._ds.fields)
+        self._pending = self._on_read is not None
 
     def __getitem__(self, name: str) -> Any:
+        if self._pending:
+            self._pending = False
+            self._on_read()
         a = super().__getitem__(name)
         if name in self._stale:
             self._ds.download(name, a)
@@ -131,7 +139,9 @@ class WarpExplicitSolver(ExplicitSolver):
     def _attach(self, s: State) -> None:
         host = dict(s.fields)
         self.ds = DeviceState(self.dm, s)
-        s.fields = MirrorFields(host, self.ds)
+        sed = self.model._sed
+        on_read = None if sed is None else (lambda: sed.restore(s))
+        s.fields = MirrorFields(host, self.ds, on_read)
         self.family.attach(self.ds)
         self._keep_good(s)
 
