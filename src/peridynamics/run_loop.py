@@ -320,7 +320,7 @@ class RunLoop:
             x=m.cloud.x,
             **extra_fields,
         )
-        kinetic, strain = m.state_energies(s)
+        kinetic, strain = ctx.energies(s)
         results: dict[str, Any] = {
             "n_points": m.cloud.n_points,
             "n_bonds": m.bonds.n_bonds,

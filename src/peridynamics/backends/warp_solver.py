@@ -120,6 +120,12 @@ class WarpExplicitSolver(ExplicitSolver):
         self._first = self.dm.zeros(1, w.int32)
         self.ds: DeviceState | None = None
         self._damage: Any = None
+        self._energy: Any = None
+        from peridynamics.backends import warp_energy
+
+        if warp_energy.supports(self.model):
+            stiffness = getattr(self.family, "stiffness", None)
+            self._energy = warp_energy.DeviceEnergy(self.model, self.dm, stiffness=stiffness)
         self._good: dict[str, Any] | None = None
         self._good_scalars: tuple[float, int, int, int] = (0.0, 0, 0, 0)
 
@@ -295,6 +301,21 @@ class WarpExplicitSolver(ExplicitSolver):
         if isinstance(fields, MirrorFields):
             fields.copied_bytes += out.nbytes
         return out
+
+    def state_energies(self, s: State) -> tuple[float, float] | None:
+        """(kinetic, strain) energy (J) with the strain energy density reduced on the
+        device (n floats back, not u and the bond flags); the sums are the host's
+        (:meth:`Model.state_energies`). None when the family has no device energy."""
+        ds = self.ds
+        if ds is None or self._energy is None:
+            return None
+        m = self.model
+        w = self._energy.strain_energy_density(ds).numpy()
+        fields = s.fields
+        if isinstance(fields, MirrorFields):
+            fields.copied_bytes += w.nbytes
+        strain = m.comm.sum(float(np.sum(w * m.cloud.volume)))
+        return m.kinetic_energy(s.v), strain
 
     # -- checks --------------------------------------------------------------------
     def check(self, s: State) -> None:
