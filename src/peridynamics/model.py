@@ -527,6 +527,15 @@ class Model:
             )  # fmt: skip
         return out
 
+    def largest_stretch(self, s: State) -> NDArray[np.float64]:
+        """Largest stretch r/|xi| - 1 of an intact bond of each point (0 where none is
+        stretched), shape (n,), at ``s.u``: what the ``max_stretch`` probe reports, for
+        every model family (the PMB force pass does not track it)."""
+        b = self.bonds
+        out = np.empty(self.n_points)
+        bond_based.largest_stretch(self.cloud.x, s.u, b.offsets, b.bond_j, s.intact, 0.0, out)
+        return out
+
     def section_stress(self, u: NDArray, intact: NDArray[np.uint8], position: float) -> float:
         """1-D stress (Pa, tension positive) across the section x = ``position``: the sum
         of the forces of all intact bonds that cross it, divided by the area (Lu & Wang (2016)

@@ -178,7 +178,7 @@ class History(Observer):
             return m.section_stress(s.u, s.intact, probe.position)
         nodes = m.cloud.node_set(probe.set)
         if q in ("damage", "max_stretch"):
-            vals = damage[nodes] if q == "damage" else s.max_stretch[nodes]
+            vals = damage[nodes] if q == "damage" else m.largest_stretch(s)[nodes]
             return _reduce(vals, probe.reduce or "max", m.comm)
         if q == "reaction_force":
             if probe.body is not None:  # the contact force on a rigid body (N)

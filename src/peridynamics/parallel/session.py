@@ -227,6 +227,11 @@ class _LazyFields(dict):  # type: ignore[type-arg]
         return [(k, self[k]) for k in self._local.fields]
 
 
+def _largest_stretch(session: Session) -> NDArray | None:
+    """Every rank's largest bond stretch per owned point, gathered on rank 0."""
+    return session._to_root(session.model.largest_stretch(session._local()))
+
+
 def _friction_sum(session: Session) -> float:
     s = session._local()
     return session.comm.sum(float(s["friction_work"][0]) if "friction_work" in s else 0.0)
@@ -288,6 +293,13 @@ class GlobalModel:
     @property
     def n_points(self) -> int:
         return self.cloud.n_points
+
+    def largest_stretch(self, s: State) -> NDArray[np.float64]:
+        """The whole body's largest bond stretch per point (every rank computes its
+        own points')."""
+        got = self._session.call("call", _largest_stretch)
+        assert got is not None
+        return np.asarray(got)
 
     def _point_attr(self, name: str) -> NDArray[np.float64]:
         got = self._session.call("attr", name)
