@@ -225,7 +225,8 @@ def test_observers_copy_back_at_their_interval(tmp_path: Path) -> None:
     ("extra", "key"),
     [
         (["solver.precision=float32"], "solver.precision"),
-        (["solver.type=adr"], "solver"),
+        (["solver.type=adr"], "explicit dynamics only"),
+        (["solver.type=static"], "explicit dynamics only"),
     ],
 )
 def test_refusals_name_the_key(extra: list[str], key: str) -> None:

@@ -774,6 +774,21 @@ class Solver(Strict):
 # ----------------------------------------------------------------------------- output
 
 
+def _numba_only(data: Any, solver: str) -> Any:
+    """``backend``/``device`` in a static solver's section: ``numba`` is accepted (and
+    dropped), anything else is refused with the reason (the Warp backend runs explicit
+    dynamics only)."""
+    if isinstance(data, dict) and ("backend" in data or "device" in data):
+        data = dict(data)
+        if data.get("backend", "numba") != "numba" or "device" in data:
+            raise ValueError(
+                f"[backend] the Warp backend runs explicit dynamics only; solver.type "
+                f"{solver} runs on the Numba backend: remove solver.backend / solver.device"
+            )
+        data.pop("backend", None)
+    return data
+
+
 class ADRSolverSpec(Strict):
     """Adaptive dynamic relaxation to static equilibrium (``type: adr``; Kilic & Madenci
     2010), loads applied in ``load_steps`` proportional steps, damage committed per
@@ -785,6 +800,11 @@ class ADRSolverSpec(Strict):
     max_iterations: Annotated[int, Field(ge=1), _Num] = 200_000
     proportional: bool = True
     max_damage_rounds: Annotated[int, Field(ge=1), _Num] = 50
+
+    @model_validator(mode="before")
+    @classmethod
+    def _backend(cls, data: Any) -> Any:
+        return _numba_only(data, "adr")
 
 
 class StaticSolverSpec(Strict):
@@ -806,6 +826,11 @@ class StaticSolverSpec(Strict):
     event_driven: bool = True
     reuse_factorization: bool = True
     max_solves: Annotated[int, Field(ge=1), _Num] = 1_000_000
+
+    @model_validator(mode="before")
+    @classmethod
+    def _backend(cls, data: Any) -> Any:
+        return _numba_only(data, "static")
 
 
 #: the registry of solvers: deck name -> schema of its section
