@@ -131,7 +131,7 @@ def geometry_cloud(g: Any, d: dk.Discretisation) -> PointCloud:
 
 
 def deck_notches(deck: dk.Deck) -> list[Notch]:
-    """The deck's ``notches`` as :class:`~peridynamics.geometry.Notch` objects."""
+    """The deck's ``notches`` as :class:`~peridynamics.geometry.notches.Notch` objects."""
     out = []
     for n, spec in enumerate(deck.notches):
         try:

@@ -39,7 +39,7 @@ volume does not make a bond count less), so:
 Orientation of the lattice
 --------------------------
 On a regular grid g depends on n. Measured on the square grid (truncated family,
-|xi| <= m dx), relative to 2/pi: m = 2: -11.0 % for a crack along a grid axis, +3.7 %
+bond lengths up to m dx), relative to 2/pi: m = 2: -11.0 % for a crack along a grid axis, +3.7 %
 at 30 degrees, +0.7 % at 45 degrees; m = 3: -3.9 %, +0.7 %, -1.9 %; m = 4: -2.6 %,
 +0.3 %, -0.1 %. On the cubic grid (relative to 1/2) m = 2: -9.9 % for a crack on a
 grid plane; m = 3: -1.8 %, -2.8 % on {110}; m = 4: -1.9 %. The orientation average alone
@@ -140,7 +140,7 @@ def _table_normals(dim: int) -> tuple[NDArray[np.float64], tuple[int, ...]]:
 
 
 def family_first_moment(bonds: Bonds, s: NDArray, dim: int) -> NDArray[np.float64]:
-    """|sum_j xi_ij| of every point's family, shape (len(s),) (m): 0 for a balanced
+    """The norm of sum_j xi_ij of every point's family, shape (len(s),) (m): 0 for a balanced
     family, large for a point near a free surface."""
     first = np.stack(
         [

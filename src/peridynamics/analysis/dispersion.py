@@ -117,7 +117,7 @@ class Dispersion:
 
 def neighbours_1d(m: float) -> int:
     """n = floor(delta / h) neighbours per side (PD wave dispersion (n.d.): full volumes,
-    |xi| <= delta)."""
+    bond lengths up to delta)."""
     if m < 1:
         raise ValueError("m = delta/h must be >= 1")
     return int(np.floor(m + 1e-9))
@@ -187,7 +187,7 @@ def continuous_1d(kappa_delta: ArrayLike) -> F:
 
 # --------------------------------------------------- 2-D, PD wave dispersion (n.d.)
 def lattice_family_2d(m: float) -> F:
-    """Lattice bond vectors (in units of h) with |xi| <= m h, shape (n, 2)."""
+    """Lattice bond vectors (in units of h) no longer than m h, shape (n, 2)."""
     r = int(np.ceil(m))
     i, j = np.meshgrid(np.arange(-r, r + 1), np.arange(-r, r + 1), indexing="ij")
     v = np.column_stack([i.ravel(), j.ravel()]).astype(float)

@@ -234,7 +234,7 @@ class DeviceContact:
     def add(self, ds: DeviceState) -> None:
         """Add the contact force density (N/m^3) at ``ds.u`` to ``ds.force`` (pairs joined
         by a bond intact in ``ds.intact`` excluded); with friction also reads ``ds.v``,
-        the model's density and ``model.time_step``, and writes :attr:`power`."""
+        the model's density and ``model.time_step``, and writes ``power``."""
         dm = self.dm
         self.update(ds.u)
         args = [self.pair_offsets, self.pair_j, self.pair_bond_ij, self.pair_bond_ji]

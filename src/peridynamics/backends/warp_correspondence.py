@@ -7,10 +7,11 @@ built-in stress laws (``material.law``: st_venant_kirchhoff, linear_elastic).
 One evaluation runs, as :meth:`peridynamics.model.Model.evaluate` on the host: with
 ``commit`` the damage law's trial and commit, then the pre-pass (K, F, sigma^s, A =
 (P - sigma^s) K^-1 and the stabilisation coefficient of every point) and the force pass.
-Damage laws: critical stretch (:class:`~peridynamics.backends.warp_damage.
-DeviceCriticalStretch`) and the correspondence failure law (critical stretch and/or the
-maximum principal stress, with the degenerate-family rounds): its trial takes the
-largest principal Cauchy stress of a fresh pre-pass at the displacement and the bonds
+Damage laws: critical stretch
+(:class:`~peridynamics.backends.warp_damage.DeviceCriticalStretch`) and the
+correspondence failure law (critical stretch and/or the maximum principal stress,
+with the degenerate-family rounds): its trial takes the largest principal Cauchy
+stress of a fresh pre-pass at the displacement and the bonds
 before breaking, as the host law does.
 
 The pre-pass writes the State's fields ``deformation_gradient``, ``force_tensor``,
@@ -40,7 +41,7 @@ try:
 except ImportError:  # pragma: no cover - warp-lang absent
     pass
 
-#: the stress laws with a device kernel (ids of :mod:`...kernels.correspondence_points`)
+#: the stress laws with a device kernel (ids of :mod:`peridynamics.kernels.correspondence_points`)
 LAWS = {"st_venant_kirchhoff": 0, "linear_elastic": 1}
 #: the State fields of :meth:`CorrespondenceForceModel.state_fields`: (name, tensor?)
 FIELDS = (

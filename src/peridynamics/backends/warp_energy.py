@@ -76,7 +76,7 @@ class DeviceEnergy:
     dm : DeviceModel
     stiffness : wp.array(float64) (n_bonds,), optional
         PMB only: the bond stiffness the device force pass reads (with SED softening
-        :attr:`DeviceSED.stiffness <peridynamics.backends.warp_extras.DeviceSED.stiffness>`,
+        ``DeviceSED.stiffness``,
         which also is the array kept under ``"stiffness"``). Default: the force model's
         stiffness uploaded under ``"stiffness"`` (the cached array when a family or
         DeviceSED uploaded it first).
@@ -142,7 +142,7 @@ class DeviceEnergy:
             self.s1 = dm.zeros(n, w.float64)
 
     def strain_energy_density(self, ds: DeviceState) -> Any:
-        """W_i (J/m^3) at ``ds.u`` with the bonds ``ds.intact``: :attr:`out`, a
+        """W_i (J/m^3) at ``ds.u`` with the bonds ``ds.intact``: ``out``, a
         wp.array(float64) (n,) on the device (the DeviceState is not changed)."""
         dm = self.dm
         if self.kind == "pmb":

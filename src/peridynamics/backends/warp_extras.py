@@ -6,7 +6,7 @@ twin of :class:`~peridynamics.models.softening.SoftenedStiffness`).
 Per committing evaluation the solver runs, in the order of
 :meth:`peridynamics.model.Model.evaluate`:
 
-1. the PMB force-and-break pass reading :attr:`DeviceSED.stiffness`;
+1. the PMB force-and-break pass reading ``DeviceSED.stiffness``;
 2. :meth:`DeviceSED.update` (energy with the initial stiffness at ``ds.u`` over the
    bonds left intact, levels raised, stiffness of the bonds of raised points rebuilt:
    it acts from the next evaluation on);

@@ -64,8 +64,9 @@ class RigidBody:
     name : str
     dim : int
         2 or 3.
-    contact : object with ``evaluate(y, v, volume, density, rotation, center, velocity,
-        omega, dt, force) -> (force_on_body (dim,), torque (3,), friction_power, n_contacts)``
+    contact : object with an ``evaluate`` method
+        ``evaluate(y, v, volume, density, rotation, center, velocity, omega, dt, force)``
+        that returns ``(force_on_body (dim,), torque (3,), friction_power, n_contacts)``
         The contact law of its shape (analytic or points), in the body frame.
     center : (dim,) initial position of the reference point (m).
     motion : {"prescribed", "free"}

@@ -1,6 +1,6 @@
 """Analytic rigid shapes in their body frame: half-space, box, sphere (disc), cylinder.
 
-Each shape is a small frozen dataclass with an integer code :attr:`Shape.kind` and a
+Each shape is a small frozen dataclass with an integer code ``Shape.kind`` and a
 flat float64 parameter vector :attr:`Shape.params`, so that one Numba kernel handles
 every shape through the code (:func:`peridynamics.kernels.rigid_contact.shape_sdf`); no
 Python object enters a kernel. The dimension (2 or 3) is the length of the centre (or

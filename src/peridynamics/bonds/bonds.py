@@ -29,7 +29,7 @@ CELL_SEARCH_MIN_POINTS = 30_000
 
 
 def bond_norm(xi: NDArray[np.float64]) -> NDArray[np.float64]:
-    """|xi| per row, shape (n,): the squares summed component by component in order,
+    """Row norms, shape (n,): the squares summed component by component in order,
     ((xi_0^2 + xi_1^2) + xi_2^2), the order the kernels use when they recompute |xi|
     from the positions (``np.einsum`` pairs components differently in 3-D)."""
     sq = xi[:, 0] * xi[:, 0]

@@ -1,7 +1,7 @@
 """Vectorised geometric predicates ("regions") used to build node sets.
 
-A :class:`Region` maps reference positions ``x`` of shape ``(n_points, dim)`` to a
-boolean mask of shape ``(n_points,)``. Regions combine with ``&`` (intersection),
+A :class:`Region` maps reference positions x, shape (n_points, dim), to a boolean
+mask, shape (n_points,). Regions combine with ``&`` (intersection),
 ``|`` (union) and ``~`` (complement)::
 
     top = Box(lo=[-inf, 0.039], hi=[inf, inf])
@@ -195,7 +195,7 @@ class Polygon(Region):
 
 @dataclass(frozen=True, init=False)
 class HalfSpace(Region):
-    """Points with ``(x - point) . normal >= 0``."""
+    """Points with ``dot(x - point, normal) >= 0``."""
 
     point: tuple[float, ...]
     normal: tuple[float, ...]

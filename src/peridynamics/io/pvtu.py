@@ -15,12 +15,10 @@ that :func:`~peridynamics.io.vtk.write_vtu` applies: every field and the points 
 frame ``precision``, arrays of one dimension as scalars, arrays of two dimensions
 padded to 3 components.
 
-References
-----------
-.. [1] Kitware, "VTK File Formats", in *The VTK User's Guide*, 11th ed., section
-   "XML File Formats", subsection "Parallel File Formats" (the PUnstructuredGrid file
-   with its ``PPointData``, ``PPoints`` and ``Piece`` elements). Online:
-   https://docs.vtk.org/en/latest/vtk_file_formats/vtkxml_file_format.html
+Reference: Kitware, "VTK File Formats", in *The VTK User's Guide*, 11th ed., section
+"XML File Formats", subsection "Parallel File Formats" (the PUnstructuredGrid file with
+its ``PPointData``, ``PPoints`` and ``Piece`` elements). Online:
+https://docs.vtk.org/en/latest/vtk_file_formats/vtkxml_file_format.html
 """
 
 from __future__ import annotations

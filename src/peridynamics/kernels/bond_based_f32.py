@@ -5,7 +5,7 @@ The reference positions are centred and stored in float32, the displacements cas
 float32 each evaluation, the per-bond stiffness stored in float32 (4 bytes instead of
 8). With x ~ 0.1 m and u ~ 1e-6 m the float32 sum ``x + u`` keeps about one
 significant digit of ``u``, and ``|xi + eta| - |xi|`` cancels: here the stretch never
-forms ``xi + eta`` first but uses
+forms ``xi + eta`` first but uses::
 
     |xi + eta|^2 - |xi|^2 = 2 xi . eta + eta . eta  =: q,
     s = q / (|xi| (|xi + eta| + |xi|)),

@@ -102,7 +102,7 @@ def force_tensor(fgrad, kinv, sigma_s, active, lame, shear, law, strain, amat):
 
     Parameters
     ----------
-    fgrad, kinv, sigma_s : (n_all, d, d) from :func:`prepass`.
+    fgrad, kinv, sigma_s : (n_all, d, d) from :func:`peridynamics.kernels.correspondence.prepass`.
     active : (n_all,) 1.0 regular, 0.0 degenerate (A = 0).
     lame, shear : float, lambda' and mu (Pa).
     law : int, LAW_SVK (Green strain, P = F S) or LAW_LINEAR (sym(F - I), P = sigma).

@@ -38,7 +38,7 @@ def prepass(
     mode: int,
     stab: F64,
 ) -> tuple[F64, F64, F64, F64, F64]:
-    """(kinv, fgrad, sigma_s, omega0, active) of :func:`..correspondence.prepass`."""
+    """(kinv, fgrad, sigma_s, omega0, active) of :func:`.correspondence.prepass`."""
     n = len(offsets) - 1
     d = u.shape[1]
     i, _, w, y = _bonds(bond_xi, u, offsets, bond_j, wv, intact)
@@ -74,7 +74,7 @@ def force(
     stab: F64,
     mode: int,
 ) -> F64:
-    """Force density (n, d) of :func:`..correspondence.force`, from the half force
+    """Force density (n, d) of :func:`.correspondence.force`, from the half force
     states T_i<xi> and T_j<-xi> (not the pair form of the kernel)."""
     n = len(offsets) - 1
     i, j, w, y = _bonds(bond_xi, u, offsets, bond_j, wv, intact)
@@ -107,7 +107,7 @@ def stabilization_energy(
     stab: F64,
     mode: int,
 ) -> F64:
-    """Stabilisation energy density (n,) of :func:`..correspondence.stabilization_energy`."""
+    """Stabilisation energy density (n,) of :func:`.correspondence.stabilization_energy`."""
     n = len(offsets) - 1
     if mode == 0:
         return np.zeros(n)

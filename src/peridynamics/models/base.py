@@ -12,7 +12,7 @@ and test oracle.
 A **damage law** proposes (``trial``) which bonds fail at a state; the solver decides
 when to ``commit`` the proposal (explicit dynamics: every step; dynamic relaxation and
 static solvers: on an accepted load step). The history it changes (``intact``) lives
-in the :class:`~peridynamics.solvers.state.State`.
+in the :class:`~peridynamics.state.State`.
 
 Units: force densities N/m^3, energy densities J/m^3, stiffness bounds N/m^4 (so that
 ``dt_i = sqrt(2 rho_i / K_i)`` is a time for a density in kg/m^3), tangents N/m.
@@ -174,7 +174,7 @@ class DamageLaw(ABC):
     @abstractmethod
     def trial(self, state: State) -> int:
         """Propose the bonds that fail at ``state`` (kept by the law until
-        :meth:`commit`); returns the number of directed bonds proposed. Does not change
+        ``commit``); returns the number of directed bonds proposed. Does not change
         the State."""
 
     @abstractmethod

@@ -15,7 +15,7 @@ Conventions
   This is the standard practice (Peridigm's ``elastic`` material).
 * The pre-pass (:meth:`LPSForceModel.prepass`) writes the dilatation of every point to
   ``state["dilatation"]``; :meth:`LPSForceModel.force` reads it at both ends of each
-  bond, so a parallel run exchanges it (and :attr:`LPSForceModel.weighted_volume`) for
+  bond, so a parallel run exchanges it (and ``LPSForceModel.weighted_volume``) for
   ghost points between the two passes.
 * Surface correction (``surface_correction=True``, the deck default): a per-point
   calibration of the influence function, :func:`calibrate_influence`. Under a
@@ -45,7 +45,7 @@ Conventions
   corner of a 2-D one every bond has ``n_a n_b >= 0`` for the two cut directions a, b,
   so the odd moment ``sum w g n_a^3 n_b`` (0 on the ball) vanishes only if the bonds
   with ``n_a n_b > 0`` get no weight, and without them ``n_a^2 n_b^2`` cannot be
-  reached. :attr:`LPSForceModel.calibration_residual` reports what is left. The
+  reached. ``LPSForceModel.calibration_residual`` reports what is left. The
   factors are computed once from the reference bond list (pre-cracked bonds left out)
   and stay fixed when bonds break. ``False`` is the plain model (omega depends on |xi|
   only); ``bonds.bond_correction`` is not used by LPS.

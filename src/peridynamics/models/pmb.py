@@ -29,7 +29,7 @@ _CALIBRATION_STRAIN = 1e-6
 
 
 class PMBForceModel(ForceModel):
-    """Prototype microelastic brittle bonds: f_ij = c s mu (xi + eta)/|xi + eta|.
+    """Prototype microelastic brittle bonds: f_ij = c s mu n, n = (xi + eta) / norm(xi + eta).
 
     Parameters
     ----------
@@ -41,15 +41,17 @@ class PMBForceModel(ForceModel):
 
     Attributes
     ----------
-    stiffness : (n_bonds,) c(|xi|) beta V_j lambda (N/m^6 m^3): with the neighbour index
-        and the intact flag the only per-bond data the force pass reads (|xi| is
+    stiffness : ndarray, shape (n_bonds,)
+        c(L) beta V_j lambda (N/m^6 m^3) for a bond of length L: with the neighbour
+        index and the intact flag the only per-bond data the force pass reads (L is
         recomputed from the positions); SED softening rescales it in place.
-    inv_length : (n_bonds,) 1/|xi| (1/m), made on first use (the NumPy-level tangent and
-        stress maps read it; the kernels do not).
+    inv_length : ndarray, shape (n_bonds,)
+        1/L (1/m), made on first use (the NumPy-level tangent and stress maps read
+        it; the kernels do not).
     """
 
     name = "pmb"
-    #: the explicit fast path (:meth:`force_and_break`) gives the same bits as trial,
+    #: the explicit fast path (``force_and_break``) gives the same bits as trial,
     #: commit and :meth:`force` in turn
     fused_breaking: bool = True
 
@@ -119,7 +121,8 @@ class PMBForceModel(ForceModel):
 
     @property
     def inv_length(self) -> NDArray[np.float64]:
-        """1/|xi| (1/m), shape (n_bonds,) (made and kept by the bond list on first use)."""
+        """Inverse bond lengths 1/L (1/m), shape (n_bonds,) (made and kept by the bond
+        list on first use)."""
         return self.bonds.inv_length
 
     # -- forces -------------------------------------------------------------------------

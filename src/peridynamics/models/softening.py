@@ -58,7 +58,7 @@ class SoftenedStiffness:
 
     def update(self, state: State, energy_computed: bool = False) -> int:
         """Raise the levels of ``state["sed_level"]`` from the SED at ``state.u`` (or from
-        :attr:`energy` when the fused force pass already computed it) and rebuild the
+        ``energy`` when the fused force pass already computed it) and rebuild the
         stiffness of the bonds whose points rose. Returns the number of points raised."""
         p, b, level = self.params, self.fm.bonds, state["sed_level"]
         if energy_computed:

@@ -7,16 +7,16 @@ section 3; the same equations are printed in PD zero-energy modes (n.d.), eqs 14
 equations are named below by what they are and numbered (ADR-1)...(ADR-6).)
 
 The static problem ``f_int(U) + b = 0`` (force densities, N/m^3) is solved as the
-steady state of a fictitious damped motion with a fictitious time step dt = 1:
+steady state of a fictitious damped motion with a fictitious time step dt = 1::
 
-(ADR-1) pseudo-dynamics         Lambda U'' + c^n Lambda U' = F^n = f_int(U^n) + b,
-(ADR-2) fictitious density      lambda_ii >= 1/4 dt^2 sum_j |K_ij|,
-(ADR-3) damping                 c^n = 2 sqrt( (U^n^T 1K^n U^n) / (U^n^T U^n) ),
-(ADR-4) local stiffness         1K^n_ii = -(F_i^n - F_i^{n-1}) / (lambda_ii dt U'_i^{n-1/2}),
-(ADR-5) velocity, displacement  U'^{n+1/2} = ((2 - c^n dt) U'^{n-1/2} + 2 dt F^n / lambda)
-                                             / (2 + c^n dt),
-                                U^{n+1} = U^n + dt U'^{n+1/2},
-(ADR-6) first step              U'^{1/2} = dt F^0 / (2 lambda).
+  (ADR-1) pseudo-dynamics   Lambda U'' + c^n Lambda U' = F^n = f_int(U^n) + b,
+  (ADR-2) fictitious density  lambda_ii >= 1/4 dt^2 sum_j |K_ij|,
+  (ADR-3) damping           c^n = 2 sqrt( (U^n^T 1K^n U^n) / (U^n^T U^n) ),
+  (ADR-4) local stiffness   1K^n_ii = -(F_i^n - F_i^{n-1}) / (lambda_ii dt U'_i^{n-1/2}),
+  (ADR-5) velocity, displacement  U'^{n+1/2} = ((2 - c^n dt) U'^{n-1/2} + 2 dt F^n / lambda)
+                                         / (2 + c^n dt),
+                            U^{n+1} = U^n + dt U'^{n+1/2},
+  (ADR-6) first step        U'^{1/2} = dt F^0 / (2 lambda).
 
 Here ``K_ij = -dF_i/dU_j`` is the stiffness of the force density and U' the fictitious
 velocity (kept by the solver, never in ``state.v``, so that mass damping and viscous

@@ -1,6 +1,6 @@
 """1-D explicit finite differences for the wave equation (Lu & Wang (2016), eq. 17).
 
-``FDMModel1D`` is a drop-in model for :class:`~peridynamics.solvers.ExplicitSolver`:
+``FDMModel1D`` is a drop-in model for :class:`~peridynamics.solvers.explicit.ExplicitSolver`:
 rho u_tt = E (u_{i+1} - 2 u_i + u_{i-1}) / dx^2 + b_i on a uniform node grid, with free
 ends (the missing neighbour term is dropped, i.e. a ghost node u_{-1} = u_0). With the
 central-difference integrator this is the classical explicit FDM; it is exactly what

@@ -20,7 +20,7 @@ Re-use when bonds break (the stiffness loses a few pair matrices, K = K0 - dK):
   solve with the old factors, each event one dense solve of size |S|. K is
   refactored when |S| reaches a memory budget (:class:`UpdatedDirect`).
 * iterative: the multigrid hierarchy of K0 preconditions CG on K0 - dK, warm started
-  (:class:`UpdatedIterative`); it is rebuilt when CG needs twice the iterations it
+  (``UpdatedIterative``); it is rebuilt when CG needs twice the iterations it
   needed at the rebuild.
 """
 

@@ -1,0 +1,66 @@
+"""Sphinx configuration of the peridynamics documentation site.
+
+Build: ``pip install ".[docs]" && sphinx-build -W -n -b html docs docs/_build/html``.
+The pages are the Markdown files of this folder (MyST), the API reference is generated
+from the numpydoc docstrings, the command-line reference from the argument parser and
+the deck reference's key tables from the pydantic schemas (``_ext/``)."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE / "_ext"))
+sys.path.insert(0, str(HERE.parent / "src"))
+
+from peridynamics import __version__  # noqa: E402
+
+project = "peridynamics"
+author = "the peridynamics developers"
+copyright = "2026, the peridynamics developers"  # noqa: A001
+release = __version__
+version = __version__
+
+extensions = [
+    "myst_parser",
+    "sphinx.ext.autodoc",
+    "sphinx.ext.autosummary",
+    "sphinx.ext.mathjax",
+    "sphinx.ext.viewcode",
+    "numpydoc",
+    "cli_help",
+    "gallery",
+]
+templates_path = ["_templates"]
+source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
+root_doc = "index"
+exclude_patterns = ["_build", "Thumbs.db", ".DS_Store", "img/site/*.md"]
+myst_enable_extensions = ["dollarmath", "colon_fence"]
+myst_heading_anchors = 3
+suppress_warnings = ["myst.header"]
+
+# targets outside this package (no intersphinx: the build works offline), private
+# helpers and the views of dict methods that autodoc inherits
+nitpick_ignore_regex = [
+    (r"py:.*", r"(abc|ast|pydantic|warp|numpy|scipy|enum|typing|collections)(\..*)?"),
+    (r"py:.*", r".*\._[A-Za-z_]\w*"),
+    (r"py:class", r"(a set-like object|an object) providing a view on D's .*"),
+]
+
+autosummary_generate = True
+autodoc_typehints = "none"
+# a package documents what it defines; re-exports are documented where they live
+autodoc_default_options = {"ignore-module-all": True}
+autodoc_member_order = "bysource"
+numpydoc_show_class_members = False
+numpydoc_validation_checks: set[str] = set()
+
+html_theme = "alabaster"
+html_title = f"peridynamics {release}"
+html_static_path = ["_static"]
+html_js_files = ["check_images.js"]
+html_theme_options = {
+    "description": "Peridynamic simulation of deformation, waves and fracture",
+    "fixed_sidebar": True,
+}

@@ -1,0 +1,128 @@
+"""The documentation site: it builds with warnings as errors and nitpicky
+cross-references; no internal link is broken and no image is missing; the pages render
+in headless Chromium with every image loaded. Skipped without the ``[docs]`` extra
+(Sphinx) and, for the browser part, without Debian's ``chromium``.
+
+Screenshots: ``PERIDYNAMICS_SITE_SCREENSHOTS=docs/img/site pytest tests/unit/test_docs_site.py``
+writes the landing page, a user-guide page, the deck reference and a gallery entry."""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import subprocess
+import sys
+from html.parser import HTMLParser
+from pathlib import Path
+from urllib.parse import unquote, urlparse
+
+import pytest
+
+pytest.importorskip("sphinx", reason="Sphinx not installed (pip install '.[docs]')")
+pytest.importorskip("myst_parser", reason="myst-parser not installed (pip install '.[docs]')")
+
+ROOT = Path(__file__).resolve().parents[2]
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+SHOTS = {
+    "landing.png": "index.html",
+    "user_guide.png": "theory_bond_based.html",
+    "deck_reference.png": "deck.html",
+    "gallery_entry.png": "gallery/rock_compression.html",
+}
+
+
+@pytest.fixture(scope="module")
+def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The site built as the README's development section builds it."""
+    out = tmp_path_factory.mktemp("site")
+    cmd = [sys.executable, "-m", "sphinx", "-W", "-n", "--keep-going", "-q", "-b", "html",
+           str(ROOT / "docs"), str(out / "html"), "-d", str(out / "doctrees")]  # fmt: skip
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
+    assert proc.returncode == 0, proc.stdout[-4000:] + proc.stderr[-4000:]
+    return out / "html"
+
+
+class _Refs(HTMLParser):
+    def __init__(self) -> None:
+        super().__init__()
+        self.links: list[str] = []
+        self.images: list[str] = []
+        self.ids: set[str] = set()
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        a = dict(attrs)
+        if a.get("id"):
+            self.ids.add(str(a["id"]))
+        if tag == "a" and a.get("href"):
+            self.links.append(str(a["href"]))
+        if tag == "img" and a.get("src"):
+            self.images.append(str(a["src"]))
+
+
+def _parse(page: Path) -> _Refs:
+    p = _Refs()
+    p.feed(page.read_text(errors="replace"))
+    return p
+
+
+def test_site_pages(site: Path) -> None:
+    pages = list(site.rglob("*.html"))
+    assert len(pages) > 100
+    for name in ("index.html", "getting_started.html", "deck.html", "output.html",
+                 "cli.html", "api.html", "references.html", "gallery/index.html"):  # fmt: skip
+        assert (site / name).exists(), name
+    cli = (site / "cli.html").read_text()
+    assert "--backend" in cli and "--checkpoint-every" in cli  # from the parser
+
+
+def test_no_broken_link_or_missing_image(site: Path) -> None:
+    parsed = {p: _parse(p) for p in site.rglob("*.html")}
+    broken: list[str] = []
+    for page, refs in parsed.items():
+        for href in refs.links:
+            url = urlparse(href)
+            if url.scheme or href.startswith("mailto:"):
+                continue  # external: not checked offline
+            target = (page.parent / unquote(url.path)).resolve() if url.path else page
+            if not target.exists():
+                broken.append(f"{page.relative_to(site)} -> {href}")
+            elif url.fragment and target.suffix == ".html":
+                ids = parsed[target].ids if target in parsed else _parse(target).ids
+                if url.fragment not in ids:
+                    broken.append(f"{page.relative_to(site)} -> {href} (no anchor)")
+        for src in refs.images:
+            if urlparse(src).scheme:
+                continue
+            if not (page.parent / unquote(src)).resolve().exists():
+                broken.append(f"{page.relative_to(site)} image {src}")
+    assert not broken, "\n".join(broken[:40])
+
+
+@pytest.mark.skipif(CHROMIUM is None, reason="chromium not installed (apt install chromium)")
+def test_pages_render_in_chromium_with_every_image(site: Path, tmp_path: Path) -> None:
+    gallery = sorted((site / "gallery").glob("*.html"))
+    pages = ["index.html", "deck.html", "theory_bond_based.html", "api.html"]
+    pages += [str(p.relative_to(site)) for p in gallery]
+    images = 0
+    for name in pages:
+        dom = subprocess.run(
+            [str(CHROMIUM), "--headless", "--no-sandbox", "--disable-gpu",
+             "--virtual-time-budget=5000", "--dump-dom", (site / name).as_uri()],
+            capture_output=True, text=True, timeout=120,
+        ).stdout  # fmt: skip
+        assert "</body>" in dom and 'class="body"' in dom, name
+        got = re.search(r'data-images="(\d+)" data-broken-images="(\d+)"', dom)
+        assert got is not None, f"{name}: the image check did not run"
+        assert got.group(2) == "0", f"{name}: {got.group(2)} images did not load"
+        images += int(got.group(1))
+    assert images > 30  # the gallery's figures
+    shots = Path(os.environ.get("PERIDYNAMICS_SITE_SCREENSHOTS", tmp_path))
+    shots.mkdir(parents=True, exist_ok=True)
+    for png, page in SHOTS.items():
+        subprocess.run(
+            [str(CHROMIUM), "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
+             "--window-size=1280,1000", f"--screenshot={shots / png}", (site / page).as_uri()],
+            capture_output=True, timeout=120, check=True,
+        )  # fmt: skip
+        assert (shots / png).stat().st_size > 10_000, png
