@@ -113,8 +113,23 @@ def build_gallery() -> list[str]:
     return names
 
 
+def build_verification() -> None:
+    """``docs/gallery/verification.md``: the README's measured results (verification
+    tables against analytic solutions, papers and peers), links made site links."""
+    text = (ROOT / "README.md").read_text()
+    start, end = text.index("## Measured"), text.index("## Development")
+    body = text[start:end].replace("## Measured", "# Verification and measured results", 1)
+    body = re.sub(r"\]\(docs/([\w.]+\.md)", r"](../\1", body)
+    body = re.sub(r"\]\(examples/(\w+)/README\.md\)", r"](\1.md)", body)
+    body = re.sub(r"\]\(docs/(img/[^)]+)\)", r"](../\1)", body)
+    (OUT / "verification.md").write_text(
+        body + "\n\n(From the README of the repository, the section *Measured*.)\n"
+    )
+
+
 def _on_init(app: Any) -> None:
     build_gallery()
+    build_verification()
 
 
 def setup(app: Any) -> dict[str, Any]:

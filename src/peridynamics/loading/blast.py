@@ -458,8 +458,8 @@ class BlastPulse(TimeFunction):
     computed once at construction with :func:`kingery_bulmash` (which warns with
     ``BlastRangeWarning`` when Z is out of range).
 
-    Shapes
-    ------
+    The two pulse shapes:
+
     ``"triangular"`` (recommended, UFC 3-340-02 fictitious reflected duration)
         p(tau) = P_r (1 - tau/t_r) for 0 <= tau <= t_r, t_r = 2 I_r / P_r, so that int p = I_r.
     ``"friedlander"`` (modified Friedlander)
