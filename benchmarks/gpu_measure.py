@@ -35,22 +35,13 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def _model(dim: int, n_side: int) -> Any:
-    """A PMB square (2-D) or cube (3-D) with critical-stretch damage (nothing breaks in
-    the few steps timed: the kernels still test every bond)."""
-    from peridynamics.bonds import build_bonds
+    """The package benchmark's body (:func:`peridynamics.bench._model`) with
+    critical-stretch damage (nothing breaks in the few steps timed: the kernels still
+    test every bond)."""
+    from peridynamics.bench import _model as bench_model
     from peridynamics.damage.critical_stretch import CriticalStretch
-    from peridynamics.geometry import box, rectangle
-    from peridynamics.materials import BondBasedMaterial
-    from peridynamics.model import Model
 
-    dx = 1.0e-3
-    if dim == 2:
-        cloud = rectangle((n_side * dx, n_side * dx), dx, thickness=1e-3)
-    else:
-        cloud = box((n_side * dx,) * 3, dx)
-    bonds = build_bonds(cloud, 3.015 * dx)
-    material = BondBasedMaterial(youngs_modulus=70e9, density=2500.0)
-    return Model(cloud, bonds, material, CriticalStretch(critical_stretch=0.01))
+    return bench_model(dim, n_side, CriticalStretch(critical_stretch=0.01))
 
 
 def _time_steps(solver: Any, state: Any, steps: int, sync: Any) -> float:

@@ -9,10 +9,12 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from peridynamics.bonds import build_bonds
+from peridynamics.damage.critical_stretch import NO_DAMAGE
 from peridynamics.geometry import bar, box, rectangle
 from peridynamics.kernels import reference
 from peridynamics.materials import BondBasedMaterial
@@ -63,7 +65,9 @@ class BenchResult:
         return dict(self.__dict__)
 
 
-def _model(dim: int, n_side: int) -> Model:
+def _model(dim: int, n_side: int, damage: Any = NO_DAMAGE) -> Model:
+    """The benchmark body: a bar, square or cube of points on a grid (dx = 1 mm,
+    delta = 3.015 dx), PMB, ``damage`` (none by default)."""
     dx = 1.0e-3
     if dim == 1:
         cloud = bar(n_side * dx, dx, area=1e-4)
@@ -72,7 +76,7 @@ def _model(dim: int, n_side: int) -> Model:
     else:
         cloud = box((n_side * dx,) * 3, dx)
     bonds = build_bonds(cloud, 3.015 * dx)
-    return Model(cloud, bonds, BondBasedMaterial(youngs_modulus=70e9, density=2500.0))
+    return Model(cloud, bonds, BondBasedMaterial(youngs_modulus=70e9, density=2500.0), damage)
 
 
 def run_case(
