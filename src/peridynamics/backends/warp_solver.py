@@ -23,22 +23,22 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.backends import _warp_step_dsl as k
+from peridynamics.backends.warp_device import DeviceModel, DeviceState, pick_device, to_device
+from peridynamics.backends.warp_families import device_terms
+from peridynamics.loading.conditions import (
+    Fixed,
+    PrescribedDisplacement,
+    PrescribedVelocity,
+    _components,
+)
+from peridynamics.solvers.base import StepResult
+from peridynamics.solvers.explicit import ExplicitSolver
+from peridynamics.state import State
 
 try:
     from peridynamics.backends._warp_dsl import _damage
 except ImportError:  # pragma: no cover - warp-lang absent: importable, not runnable
     _damage = None
-from peridynamics.backends.warp_device import DeviceModel, DeviceState, pick_device, to_device
-from peridynamics.backends.warp_families import device_terms
-from peridynamics.loading.conditions import (
-    COMPONENTS,
-    Fixed,
-    PrescribedDisplacement,
-    PrescribedVelocity,
-)
-from peridynamics.solvers.base import StepResult
-from peridynamics.solvers.explicit import ExplicitSolver
-from peridynamics.state import State
 
 
 class MirrorFields(dict):  # type: ignore[type-arg]
@@ -111,7 +111,7 @@ class WarpExplicitSolver(ExplicitSolver):
         self._loads = [
             (
                 self.dm.upload(f"load{n}_nodes", np.asarray(b.nodes, dtype=np.int32)),
-                self.dm.upload(f"load{n}_value", _per_node(b.value, len(b.nodes), self.model.dim)),
+                self.dm.upload(f"load{n}_value", _per_node(b, self.model.dim)),
                 b.function,
             )
             for n, b in enumerate(self.model.body_forces)
@@ -253,11 +253,11 @@ class WarpExplicitSolver(ExplicitSolver):
             if isinstance(c, PrescribedVelocity):
                 if velocities_only:
                     now = c.function(t)
-                    for comp, val in _values(c.values):
+                    for comp, val in _components(c.values, dm.dim, "condition"):
                         dm.launch(k.set_velocity, m, [nodes, comp, f64(val * now), ds.v])
                 else:
                     mid, now = c.function(t - 0.5 * dt), c.function(t)
-                    for comp, val in _values(c.values):
+                    for comp, val in _components(c.values, dm.dim, "condition"):
                         dm.launch(
                             k.drive_velocity,
                             m,
@@ -265,7 +265,7 @@ class WarpExplicitSolver(ExplicitSolver):
                         )
             elif isinstance(c, PrescribedDisplacement):
                 f_now, f_old = c.function(t), c.function(t - dt)
-                for comp, val in _values(c.values):
+                for comp, val in _components(c.values, dm.dim, "condition"):
                     dm.launch(
                         k.set_displacement,
                         m,
@@ -279,16 +279,11 @@ class WarpExplicitSolver(ExplicitSolver):
                         ],
                     )
             elif isinstance(c, Fixed):
-                names = (
-                    tuple(x for x in c.components if x != "rotation")
-                    if c.components
-                    else tuple(COMPONENTS)[: dm.dim]
-                )
-                for name in names:
+                for comp in c.indices(dm.dim):
                     dm.launch(
                         k.set_displacement,
                         m,
-                        [nodes, COMPONENTS[name], f64(0.0), f64(0.0), ds.u, ds.v],
+                        [nodes, comp, f64(0.0), f64(0.0), ds.u, ds.v],
                     )
 
     def point_damage(self, s: State) -> NDArray[np.float64] | None:
@@ -405,18 +400,7 @@ def _check_device_memory(model: Any, device: str) -> None:
         )
 
 
-def _values(values: Any) -> list[tuple[int, float]]:
-    return [(COMPONENTS[name], float(v)) for name, v in values.items()]
-
-
-def _per_node(value: Any, m: int, dim: int) -> NDArray[np.float64]:
-    """A load's value as one row per node, (m, dim)."""
-    val = np.asarray(value, dtype=np.float64)
-    if val.shape == (dim,):
-        return np.ascontiguousarray(np.broadcast_to(val, (m, dim)))
-    if val.shape != (m, dim):
-        raise ValueError(
-            f"body force needs {dim} components (one vector, or one per node), got shape "
-            f"{val.shape}"
-        )
-    return np.ascontiguousarray(val)
+def _per_node(load: Any, dim: int) -> NDArray[np.float64]:
+    """A body force's value as one row per node, (len(nodes), dim)."""
+    val = load.checked_value(dim)
+    return np.ascontiguousarray(np.broadcast_to(val, (len(load.nodes), dim)))

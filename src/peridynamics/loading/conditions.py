@@ -69,13 +69,17 @@ class Fixed:
             theta[self.nodes] = 0.0
             omega[self.nodes] = 0.0
 
-    def apply(self, u: NDArray, v: NDArray, t: float, dt: float) -> None:
+    def indices(self, dim: int) -> list[int]:
+        """The displacement components it fixes (0 = x, ...)."""
         names = (
             tuple(c for c in self.components if c != "rotation")
             if self.components
-            else (tuple(COMPONENTS)[: u.shape[1]])
+            else (tuple(COMPONENTS)[:dim])
         )
-        for c, _ in _components(dict.fromkeys(names, 0.0), u.shape[1], "fixed"):
+        return [c for c, _ in _components(dict.fromkeys(names, 0.0), dim, "fixed")]
+
+    def apply(self, u: NDArray, v: NDArray, t: float, dt: float) -> None:
+        for c in self.indices(u.shape[1]):
             u[self.nodes, c] = 0.0
             v[self.nodes, c] = 0.0
 
@@ -130,14 +134,18 @@ class BodyForce:
     value: tuple[float, ...] | NDArray[np.float64]
     function: TimeFunction = field(default_factory=Constant)
 
-    def add_to(self, b: NDArray, t: float) -> None:
+    def checked_value(self, dim: int) -> NDArray[np.float64]:
+        """``value`` as an array of shape (dim,) or (len(nodes), dim); ValueError else."""
         val = np.asarray(self.value, dtype=float)
-        if val.shape not in ((b.shape[1],), (len(self.nodes), b.shape[1])):
+        if val.shape not in ((dim,), (len(self.nodes), dim)):
             raise ValueError(
-                f"body force needs {b.shape[1]} components (one vector, or one per node), "
+                f"body force needs {dim} components (one vector, or one per node), "
                 f"got shape {val.shape}"
             )
-        b[self.nodes] += val * self.function(t)
+        return val
+
+    def add_to(self, b: NDArray, t: float) -> None:
+        b[self.nodes] += self.checked_value(b.shape[1]) * self.function(t)
 
 
 def traction_as_body_force(
