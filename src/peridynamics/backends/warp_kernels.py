@@ -13,12 +13,11 @@ the device (:mod:`peridynamics.backends.warp_solver`).
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.backends._warp_dsl import wp
+from peridynamics.backends.warp_device import require_warp, to_device
 
 if wp is not None:
     from peridynamics.backends._warp_dsl import _damage, _pmb_force_break
@@ -27,13 +26,6 @@ if wp is not None:
 def available() -> bool:
     """True when warp-lang can be imported."""
     return wp is not None
-
-
-def _need() -> Any:
-    if wp is None:
-        raise ImportError("the Warp backend needs warp-lang: pip install 'peridynamics[gpu]'")
-    wp.init()
-    return wp
 
 
 def pmb_force_break(
@@ -58,18 +50,15 @@ def pmb_force_break(
     force : (n, dim) force density; intact : (n_bonds,) flags after breaking;
     broken : directed bonds broken by this call.
     """
-    w = _need()
+    w = require_warp()
     n, dim = x.shape
-    xd = w.array(np.ascontiguousarray(x), dtype=w.float64, device=device)
-    ud = w.array(np.ascontiguousarray(u), dtype=w.float64, device=device)
-    od = w.array(np.ascontiguousarray(offsets, dtype=np.int64), dtype=w.int64, device=device)
-    jd = w.array(np.ascontiguousarray(bond_j, dtype=np.int32), dtype=w.int32, device=device)
-    kd = w.array(np.ascontiguousarray(stiffness), dtype=w.float64, device=device)
-    md = w.array(np.ascontiguousarray(intact, dtype=np.uint8), dtype=w.uint8, device=device)
-    sd = w.array(np.ascontiguousarray(s0), dtype=w.float64, device=device)
+    md = to_device(np.asarray(intact, dtype=np.uint8), device)
     fd = w.zeros((n, dim), dtype=w.float64, device=device)
     bd = w.zeros(n, dtype=w.int64, device=device)
-    w.launch(_pmb_force_break, dim=len(offsets) - 1, inputs=[xd, ud, od, jd, kd, md, sd, fd, bd],
+    args: list[NDArray] = [x, u, np.asarray(offsets, dtype=np.int64),
+                           np.asarray(bond_j, dtype=np.int32), stiffness]  # fmt: skip
+    w.launch(_pmb_force_break, dim=n,
+             inputs=[*(to_device(a, device) for a in args), md, to_device(s0, device), fd, bd],
              device=device)  # fmt: skip
     return fd.numpy(), md.numpy(), int(bd.numpy().sum())
 
@@ -82,18 +71,10 @@ def point_damage(
 ) -> NDArray[np.float64]:
     """Local damage 1 - (intact partial volume)/(partial volume) per point, shape (n,)
     (Lu & Wang (2016), eq. 7), on a Warp device."""
-    w = _need()
+    w = require_warp()
     n = len(offsets) - 1
     out = w.zeros(n, dtype=w.float64, device=device)
-    w.launch(
-        _damage,
-        dim=n,
-        inputs=[
-            w.array(np.ascontiguousarray(offsets, dtype=np.int64), dtype=w.int64, device=device),
-            w.array(np.ascontiguousarray(bond_volume), dtype=w.float64, device=device),
-            w.array(np.ascontiguousarray(intact, dtype=np.uint8), dtype=w.uint8, device=device),
-            out,
-        ],
-        device=device,
-    )
+    flags = np.asarray(intact, dtype=np.uint8)
+    args: list[NDArray] = [np.asarray(offsets, dtype=np.int64), bond_volume, flags]
+    w.launch(_damage, dim=n, inputs=[*(to_device(a, device) for a in args), out], device=device)
     return out.numpy()
