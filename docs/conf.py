@@ -3,7 +3,7 @@
 Build: ``pip install ".[docs]" && sphinx-build -W -n -b html docs docs/_build/html``.
 The pages are the Markdown files of this folder (MyST), the API reference is generated
 from the numpydoc docstrings, the command-line reference from the argument parser and
-the deck reference's key tables from the pydantic schemas (``_ext/``)."""
+the gallery from ``examples/`` (``_ext/``)."""
 
 from __future__ import annotations
 
@@ -30,6 +30,7 @@ extensions = [
     "sphinx.ext.viewcode",
     "numpydoc",
     "cli_help",
+    "docstrings",
     "gallery",
 ]
 templates_path = ["_templates"]
