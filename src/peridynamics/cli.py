@@ -15,13 +15,13 @@ import os
 import shlex
 import shutil
 import sys
-import typing
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from peridynamics import __version__
+from peridynamics.io.deck_help import deck_reference, hint
 
 EXIT_OK, EXIT_INVALID, EXIT_UNSTABLE, EXIT_INTERRUPTED = 0, 2, 3, 130
 EXIT_CODES = """exit codes:
@@ -225,7 +225,7 @@ def cmd_check(args: argparse.Namespace) -> int:
         if problem:
             return _refuse(problem)
     except SetupError as exc:
-        _err(f"invalid deck:\n  {exc}")
+        _err(f"invalid deck:\n  {exc}\n{hint([exc.path])}".rstrip())
         return EXIT_INVALID
     except MemoryError as exc:
         return _out_of_memory(exc)
@@ -302,7 +302,8 @@ def cmd_run(args: argparse.Namespace) -> int:
             return EXIT_OK
     except SetupError as exc:
         if rank == 0:
-            _err(f"error: {exc}" if exc.path.startswith("--") else f"invalid deck:\n  {exc}")
+            bad = f"invalid deck:\n  {exc}\n{hint([exc.path])}".rstrip()
+            _err(f"error: {exc}" if exc.path.startswith("--") else bad)
         return EXIT_INVALID
     except OSError as exc:  # no checkpoint, unwritable output folder, ...
         _err(f"error: {exc}")
@@ -554,112 +555,33 @@ def _advise(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _type_name(ann: Any) -> str:
-    """A reader's name for a schema annotation."""
-    from pydantic import BaseModel
-
-    origin, args = typing.get_origin(ann), typing.get_args(ann)
-    if origin is typing.Annotated:
-        return _type_name(args[0])
-    if origin is typing.Literal:
-        return " | ".join(str(a).lower() if isinstance(a, bool) else str(a) for a in args)
-    if origin in (typing.Union, getattr(__import__("types"), "UnionType", None)):
-        names = [_type_name(a) for a in args if a is not type(None)]
-        return " or ".join(dict.fromkeys(names))
-    if origin in (list, tuple):
-        inner = [a for a in args if a is not Ellipsis]
-        if origin is tuple and len(inner) > 1:
-            return f"[{', '.join(_type_name(a) for a in inner)}]"
-        return f"list of {_type_name(inner[0])}" if inner else "list"
-    if origin is dict:
-        return f"mapping of name -> {_type_name(args[1])}"
-    if isinstance(ann, type) and issubclass(ann, BaseModel):
-        return "mapping"
-    return {float: "number", int: "integer", str: "string", bool: "true/false"}.get(
-        ann, getattr(ann, "__name__", str(ann))
-    )
-
-
-def _sub_models(ann: Any) -> list[Any]:
-    from pydantic import BaseModel
-
-    if isinstance(ann, type) and issubclass(ann, BaseModel):
-        return [ann]
-    out: list[Any] = []
-    for a in typing.get_args(ann):
-        for m in _sub_models(a):
-            if m not in out:
-                out.append(m)
-    return out
-
-
-def deck_reference(section: str | None = None) -> str:
-    """The keys a deck accepts, from the schema itself (what ``peridynamics help deck``
-    prints): for each key its type and default, nested sections indented, one block per
-    ``type`` / ``model`` where a section has several kinds."""
-    from pydantic_core import PydanticUndefined
-
-    from peridynamics.io.deck import Deck
-
-    lines: list[str] = []
-    shown: dict[Any, str] = {}  # section model -> the key path where its keys are listed
-
-    def walk(model: Any, indent: str, where: str) -> None:
-        for name, f in model.model_fields.items():
-            key = f.alias or name
-            path = f"{where}.{key}" if where else key
-            if f.is_required():
-                default = "required"
-            elif f.default is PydanticUndefined or f.default is None:
-                default = "optional"
-            else:
-                d = f.default
-                d = d.model_dump(mode="json") if hasattr(d, "model_dump") else d
-                default = f"default {json.dumps(d)}"
-            lines.append(f"{indent}{key}: {_type_name(f.annotation)} ({default})")
-            subs = _sub_models(f.annotation)
-            if subs and all(sub in shown for sub in subs):
-                lines.append(f"{indent}  (the keys listed under {shown[subs[0]]})")
-                continue
-            for sub in subs:
-                doc = (sub.__doc__ or sub.__name__).strip().splitlines()[0]
-                pad = indent + ("    " if len(subs) > 1 else "  ")
-                if len(subs) > 1:
-                    lines.append(f"{indent}  - {doc}")
-                if sub in shown:
-                    lines.append(f"{pad}(the keys listed under {shown[sub]})")
-                    continue
-                shown[sub] = path
-                walk(sub, pad, path)
-
-    fields = Deck.model_fields
-    if section is not None:
-        if section not in fields:
-            raise KeyError(section)
-        fields = {section: fields[section]}
-
-    class One:
-        model_fields = fields
-
-    walk(One, "", "")
-    return "\n".join(lines)
-
-
 def cmd_help(args: argparse.Namespace) -> int:
-    """Print the keys a deck accepts (from the schema, so it matches this version)."""
+    """Print a section of the deck reference or of the output page, from the installed
+    package, with the keys of the schema of this version (``help deck.material``); or
+    every key a deck accepts (``help deck``)."""
     from peridynamics.io.deck import Deck
+    from peridynamics.io.deck_help import HelpTopicError, help_text, topics
 
+    topic = args.topic if args.section is None else f"{args.topic}.{args.section}"
+    if topic == "deck":
+        print(deck_reference())
+        print(
+            "\nEach section with its units, allowed ranges and examples: "
+            "`peridynamics help deck.SECTION`\n(sections: "
+            + ", ".join(t.split(".", 1)[1] for t in topics("deck"))
+            + ");\nthe outputs and summary.json: `peridynamics help output`; complete decks: "
+            "`peridynamics examples copy NAME DIR`."
+        )
+        return EXIT_OK
     try:
-        text = deck_reference(args.section)
-    except KeyError:
-        _err(f"unknown section {args.section!r}; sections: {', '.join(Deck.model_fields)}")
+        text = help_text(topic)
+    except HelpTopicError as exc:
+        _err(str(exc))
+        return EXIT_INVALID
+    except KeyError as exc:  # a section the schema does not have
+        _err(f"unknown section {exc}; sections: {', '.join(Deck.model_fields)}")
         return EXIT_INVALID
     print(text)
-    if args.section is None:
-        print(
-            "\nThe full reference, with units, allowed ranges and examples, is docs/deck.md "
-            "in the source tree; `peridynamics examples copy NAME DIR` gives complete decks."
-        )
     return EXIT_OK
 
 
@@ -777,9 +699,17 @@ def build_parser() -> argparse.ArgumentParser:
     large_arg(c)
     c.set_defaults(func=cmd_check)
 
-    hp = sub.add_parser("help", help="the keys a deck accepts: help deck [SECTION]")
-    hp.add_argument("topic", choices=["deck"])
-    hp.add_argument("section", nargs="?", help="one top-level section (geometry, solver, ...)")
+    hp = sub.add_parser(
+        "help",
+        help="the deck reference from the installed package: help deck.material, "
+        "help deck.solver.adr, help output.summary_json; help deck lists every key",
+    )
+    hp.add_argument(
+        "topic",
+        help="deck (every key), deck.SECTION[.KIND] (a section of the deck reference with "
+        "its keys), output[.SECTION] (files of a run, summary.json)",
+    )
+    hp.add_argument("section", nargs="?", help="a deck section (the older form: help deck solver)")
     hp.set_defaults(func=cmd_help)
 
     e = sub.add_parser(

@@ -4,7 +4,9 @@ in headless Chromium with every image loaded. Skipped without the ``[docs]`` ext
 (Sphinx) and, for the browser part, without Debian's ``chromium``.
 
 Screenshots: ``PERIDYNAMICS_SITE_SCREENSHOTS=docs/img/site pytest tests/unit/test_docs_site.py``
-writes the landing page, a user-guide page, the deck reference and a gallery entry."""
+writes the landing page, a user-guide page, the deck reference and a gallery entry.
+``PERIDYNAMICS_SITE=docs/_build/html`` tests a site already built by the README's
+command instead of building one."""
 
 from __future__ import annotations
 
@@ -34,7 +36,13 @@ SHOTS = {
 
 @pytest.fixture(scope="module")
 def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """The site built as the README's development section builds it."""
+    """The site built as the README's development section builds it; or, where
+    ``PERIDYNAMICS_SITE`` names a folder, the site that command already built there
+    (``.ci/run`` builds it once, with warnings as errors, before the tests)."""
+    built = os.environ.get("PERIDYNAMICS_SITE")
+    if built:
+        assert (Path(built) / "index.html").is_file(), f"PERIDYNAMICS_SITE={built}: no site"
+        return Path(built).resolve()
     out = tmp_path_factory.mktemp("site")
     cmd = [sys.executable, "-m", "sphinx", "-W", "-n", "--keep-going", "-q", "-b", "html",
            str(ROOT / "docs"), str(out / "html"), "-d", str(out / "doctrees")]  # fmt: skip
@@ -99,6 +107,24 @@ def test_no_broken_link_or_missing_image(site: Path) -> None:
     assert not broken, "\n".join(broken[:40])
 
 
+def test_help_topics_point_to_anchors_of_the_site(site: Path) -> None:
+    """``peridynamics help deck.X`` ends with the section's address on the site."""
+    from peridynamics.io.deck_help import section, topics
+
+    for page in ("deck", "output"):
+        ids = _parse(site / f"{page}.html").ids
+        for topic in topics(page):
+            address = section(topic)[1]
+            assert address.split("#")[1] in ids, (topic, address)
+    assert section("deck.solver.adr")[1].split("#")[1] in _parse(site / "deck.html").ids
+
+
+#: headless Chromium on a machine without a network (no background connections)
+_CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
+                   "--no-first-run", "--disable-background-networking",
+                   "--disable-component-update", "--disable-sync"]  # fmt: skip
+
+
 @pytest.mark.skipif(CHROMIUM is None, reason="chromium not installed (apt install chromium)")
 def test_pages_render_in_chromium_with_every_image(site: Path, tmp_path: Path) -> None:
     gallery = sorted((site / "gallery").glob("*.html"))
@@ -107,7 +133,7 @@ def test_pages_render_in_chromium_with_every_image(site: Path, tmp_path: Path) -
     images = 0
     for name in pages:
         dom = subprocess.run(
-            [str(CHROMIUM), "--headless", "--no-sandbox", "--disable-gpu",
+            [str(CHROMIUM), *_CHROMIUM_FLAGS, f"--user-data-dir={tmp_path / 'profile'}",
              "--virtual-time-budget=5000", "--dump-dom", (site / name).as_uri()],
             capture_output=True, text=True, timeout=120,
         ).stdout  # fmt: skip
@@ -121,7 +147,8 @@ def test_pages_render_in_chromium_with_every_image(site: Path, tmp_path: Path) -
     shots.mkdir(parents=True, exist_ok=True)
     for png, page in SHOTS.items():
         subprocess.run(
-            [str(CHROMIUM), "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
+            [str(CHROMIUM), *_CHROMIUM_FLAGS, f"--user-data-dir={tmp_path / 'profile'}",
+             "--hide-scrollbars",
              "--window-size=1280,1000", f"--screenshot={shots / png}", (site / page).as_uri()],
             capture_output=True, timeout=120, check=True,
         )  # fmt: skip

@@ -363,7 +363,7 @@ def test_mesh_errors_carry_meshio_reason_not_its_exit_status(tmp_path) -> None:
 def test_unknown_keys_point_to_the_help_command(capsys) -> None:
     with pytest.raises(DeckError) as info:
         load_deck(BAR, ["geometry.thikness=1"])
-    assert "`peridynamics help deck geometry`" in info.value.errors[0][1]
+    assert "`peridynamics help deck.geometry`" in info.value.errors[0][1]
     assert main(["help", "deck", "geometry"]) == 0
     out = capsys.readouterr().out
     assert "nodes_on_boundary: true/false" in out and "thickness: number" in out

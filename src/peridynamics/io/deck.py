@@ -34,6 +34,7 @@ from peridynamics.io.deck_bodies import (
     RigidShapeSpec,
     bodies_errors,
 )
+from peridynamics.io.deck_help import hint
 from peridynamics.io.deck_output import (
     CrackPathSpec,  # noqa: F401 - re-exported
     CrackTip,  # noqa: F401 - re-exported
@@ -62,7 +63,8 @@ class DeckError(ValueError):
     def __init__(self, errors: list[tuple[str, str]]) -> None:
         self.errors = errors
         lines = [f"{path}: {msg}" if path else msg for path, msg in errors]
-        super().__init__("invalid deck:\n  " + "\n  ".join(lines))
+        see = hint(path for path, _ in errors)
+        super().__init__("invalid deck:\n  " + "\n  ".join(lines) + (f"\n{see}" if see else ""))
 
 
 # --------------------------------------------------------------------------- regions
@@ -1478,7 +1480,7 @@ def validation_errors(exc: ValidationError) -> list[tuple[str, str]]:
             section = path.split(".")[0] if "." in path else ""
             msg = (
                 "unknown key (check the spelling; `peridynamics help deck"
-                f"{' ' + section if section else ''}` lists the allowed keys)"
+                f"{'.' + section if section else ''}` lists the allowed keys)"
             )
         elif e["type"] == "missing":
             msg = "required key is missing"

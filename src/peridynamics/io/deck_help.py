@@ -1,0 +1,253 @@
+"""``peridynamics help``: the deck reference and the output contract, from the installed
+package.
+
+The reference pages (``docs/deck.md``, ``docs/output.md`` of the source tree; the
+wheel carries them as ``peridynamics/_docs/``) are the pages of the documentation site.
+``peridynamics help deck.material`` prints the section *material* of the deck reference
+followed by the keys of the schema of this version; ``help deck.solver.adr`` one
+subsection; ``help output.summary_json`` a section of the output page. Error messages
+name these topics (:func:`hint`).
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import typing
+from collections.abc import Iterable
+from pathlib import Path
+from typing import Any
+
+#: help topic -> page of the site
+PAGES = {"deck": "deck.md", "output": "output.md"}
+#: deck keys explained under a heading other than their own name
+_KEY_HEADING = {
+    "name": "name_and_description",
+    "description": "name_and_description",
+    "bodies": "several_bodies",
+    "interfaces": "several_bodies",
+    "rigid_bodies": "several_bodies",
+    "time_function": "time_functions",
+}
+
+
+class HelpTopicError(KeyError):
+    """An unknown help topic; the message lists the known ones."""
+
+    def __str__(self) -> str:
+        return str(self.args[0])
+
+
+def page_text(page: str) -> str:
+    """The Markdown source of a reference page (``"deck.md"``, ``"output.md"``): the
+    installed copy first, then the source tree's ``docs/``."""
+    here = Path(__file__).resolve().parents[1]
+    for cand in (here / "_docs" / page, here.parents[1] / "docs" / page):
+        if cand.is_file():
+            return cand.read_text(encoding="utf-8")
+    raise FileNotFoundError(f"the reference page {page} is not installed")
+
+
+def slug(heading: str) -> str:
+    """A heading as a topic word: ``"type: adr"`` -> ``"type_adr"``."""
+    return re.sub(r"[^a-z0-9]+", "_", heading.lower()).strip("_")
+
+
+def anchor(heading: str) -> str:
+    """The anchor the site gives a heading (MyST's GitHub-style slug)."""
+    text = re.sub(r"[^\w\- ]", "", heading.strip().lower())
+    return text.replace(" ", "-")
+
+
+def _sections(text: str, level: int) -> list[tuple[str, str]]:
+    """(heading, body with the heading line) of every heading of ``level`` in ``text``,
+    skipping fenced code blocks."""
+    out: list[tuple[str, list[str]]] = []
+    fence = False
+    mark = "#" * level + " "
+    for line in text.splitlines():
+        if line.lstrip().startswith("```"):
+            fence = not fence
+        if not fence and re.match(rf"#{{1,{level}}} ", line):
+            if line.startswith(mark):
+                out.append((line[len(mark) :].strip(), [line]))
+                continue
+            out.append(("", []))  # a higher heading ends the section
+            continue
+        if out:
+            out[-1][1].append(line)
+    return [(h, "\n".join(body).rstrip() + "\n") for h, body in out if h]
+
+
+def _match(word: str, heading: str) -> bool:
+    s = slug(heading)
+    return s == word or s.endswith("_" + word) or s.startswith(word + "_")
+
+
+def topics(page: str = "deck") -> list[str]:
+    """The section topics of a page: ``deck.geometry``, ``deck.material``, ..."""
+    return [f"{page}.{slug(h)}" for h, _ in _sections(page_text(PAGES[page]), 2)]
+
+
+def section(topic: str) -> tuple[str, str]:
+    """(Markdown text, site address) of a topic: ``deck``, ``deck.material``,
+    ``deck.solver.adr``, ``output.summary_json``.
+
+    Raises
+    ------
+    HelpTopicError
+        For an unknown topic; the message lists the topics of the page.
+    """
+    page, *parts = topic.split(".")
+    if page not in PAGES:
+        raise HelpTopicError(f"unknown help topic {topic!r}; topics: {', '.join(PAGES)}")
+    text = page_text(PAGES[page])
+    html = PAGES[page].replace(".md", ".html")
+    if not parts:
+        return text, html
+    word = _KEY_HEADING.get(parts[0], parts[0]) if page == "deck" else parts[0]
+    found = [(h, body) for h, body in _sections(text, 2) if _match(word, h)]
+    if not found:
+        known = ", ".join(topics(page))
+        raise HelpTopicError(f"unknown help topic {topic!r}; topics: {known}")
+    heading, body = found[0]
+    if len(parts) > 1:
+        subs = [(h, b) for h, b in _sections(body, 3) if _match(parts[1], h)]
+        if not subs:
+            known = ", ".join(f"{page}.{parts[0]}.{slug(h)}" for h, _ in _sections(body, 3))
+            raise HelpTopicError(
+                f"unknown help topic {topic!r}; "
+                + (f"topics: {known}" if known else f"{page}.{parts[0]} has no subsections")
+            )
+        heading, body = subs[0]
+    return body, f"{html}#{anchor(heading)}"
+
+
+def help_text(topic: str) -> str:
+    """What ``peridynamics help TOPIC`` prints: the section, the schema's keys of a
+    deck section (this version's), and the section's address on the site."""
+    body, address = section(topic)
+    page, *parts = topic.split(".")
+    out = [body.rstrip()]
+    if page == "deck" and len(parts) == 1:
+        from peridynamics.io.deck import Deck
+
+        keys = [k for k, h in _KEY_HEADING.items() if h == _KEY_HEADING.get(parts[0])]
+        keys = keys or [parts[0]]
+        keys = [k for k in keys if k in Deck.model_fields]
+        if keys:
+            out += ["", "Keys in this version (from the schema):", ""]
+            out += [deck_reference(k) for k in keys]
+    out += ["", f"On the documentation site: {address}"]
+    return "\n".join(out)
+
+
+def hint(paths: Iterable[str]) -> str:
+    """One line naming the help topics of the deck sections in ``paths`` (key paths of
+    errors), e.g. ``help: peridynamics help deck.geometry (likewise deck.solver)``; empty
+    when none is known."""
+    names: list[str] = []
+    for path in paths:
+        top = path.split(".")[0].split("[")[0]
+        if top and top not in names and (top in _KEY_HEADING or re.fullmatch(r"[a-z_]+", top)):
+            names.append(top)
+    try:
+        known = {t.split(".", 1)[1] for t in topics("deck")}
+    except FileNotFoundError:
+        return ""
+    shown = [n for n in names if _KEY_HEADING.get(n, n) in known]
+    if not shown:
+        return ""
+    more = f" (likewise deck.{', deck.'.join(shown[1:])})" if len(shown) > 1 else ""
+    return f"help: peridynamics help deck.{shown[0]}{more}"
+
+
+# ---------------------------------------------------------------- keys from the schema
+def _type_name(ann: Any) -> str:
+    from pydantic import BaseModel
+
+    origin, args = typing.get_origin(ann), typing.get_args(ann)
+    if origin is typing.Annotated:
+        return _type_name(args[0])
+    if origin is typing.Literal:
+        return " | ".join(str(a).lower() if isinstance(a, bool) else str(a) for a in args)
+    if origin in (typing.Union, getattr(__import__("types"), "UnionType", None)):
+        names = [_type_name(a) for a in args if a is not type(None)]
+        return " or ".join(dict.fromkeys(names))
+    if origin in (list, tuple):
+        inner = [a for a in args if a is not Ellipsis]
+        if origin is tuple and len(inner) > 1:
+            return f"[{', '.join(_type_name(a) for a in inner)}]"
+        return f"list of {_type_name(inner[0])}" if inner else "list"
+    if origin is dict:
+        return f"mapping of name -> {_type_name(args[1])}"
+    if isinstance(ann, type) and issubclass(ann, BaseModel):
+        return "mapping"
+    return {float: "number", int: "integer", str: "string", bool: "true/false"}.get(
+        ann, getattr(ann, "__name__", str(ann))
+    )
+
+
+def _sub_models(ann: Any) -> list[Any]:
+    from pydantic import BaseModel
+
+    if isinstance(ann, type) and issubclass(ann, BaseModel):
+        return [ann]
+    out: list[Any] = []
+    for a in typing.get_args(ann):
+        for m in _sub_models(a):
+            if m not in out:
+                out.append(m)
+    return out
+
+
+def deck_reference(section: str | None = None) -> str:
+    """The keys a deck accepts, from the schema itself (what ``peridynamics help deck``
+    prints): for each key its type and default, nested sections indented, one block per
+    ``type`` / ``model`` where a section has several kinds."""
+    from pydantic_core import PydanticUndefined
+
+    from peridynamics.io.deck import Deck
+
+    lines: list[str] = []
+    shown: dict[Any, str] = {}  # section model -> the key path where its keys are listed
+
+    def walk(model: Any, indent: str, where: str) -> None:
+        for name, f in model.model_fields.items():
+            key = f.alias or name
+            path = f"{where}.{key}" if where else key
+            if f.is_required():
+                default = "required"
+            elif f.default is PydanticUndefined or f.default is None:
+                default = "optional"
+            else:
+                d = f.default
+                d = d.model_dump(mode="json") if hasattr(d, "model_dump") else d
+                default = f"default {json.dumps(d)}"
+            lines.append(f"{indent}{key}: {_type_name(f.annotation)} ({default})")
+            subs = _sub_models(f.annotation)
+            if subs and all(sub in shown for sub in subs):
+                lines.append(f"{indent}  (the keys listed under {shown[subs[0]]})")
+                continue
+            for sub in subs:
+                doc = (sub.__doc__ or sub.__name__).strip().splitlines()[0]
+                pad = indent + ("    " if len(subs) > 1 else "  ")
+                if len(subs) > 1:
+                    lines.append(f"{indent}  - {doc}")
+                if sub in shown:
+                    lines.append(f"{pad}(the keys listed under {shown[sub]})")
+                    continue
+                shown[sub] = path
+                walk(sub, pad, path)
+
+    fields = Deck.model_fields
+    if section is not None:
+        if section not in fields:
+            raise KeyError(section)
+        fields = {section: fields[section]}
+
+    class One:
+        model_fields = fields
+
+    walk(One, "", "")
+    return "\n".join(lines)
