@@ -31,6 +31,11 @@ EXIT_CODES = """exit codes:
   3    run: the run went unstable (summary.json and last_good.vtu are written)
   130  run: interrupted by Ctrl-C (summary.json with status "interrupted"; with
        --checkpoint-every N also a checkpoint: peridynamics run DECK --resume DIR)"""
+HELP_TOPICS = """the reference, from the installed package (the documentation site's pages):
+  peridynamics help deck               every key a deck accepts, type and default
+  peridynamics help deck.SECTION       one section with units, ranges and examples,
+                                       e.g. deck.material, deck.solver.adr, deck.bodies
+  peridynamics help output             the files of a run and summary.json"""
 #: bond updates per second assumed for the wall-time estimate (README: 3.5e8 measured)
 BOND_UPDATES_PER_S = 3e8
 #: more bond updates than this (steps x bonds) is refused without --allow-large
@@ -590,7 +595,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="peridynamics",
         description="Peridynamic simulation of fracture and waves.",
-        epilog=EXIT_CODES,
+        epilog=EXIT_CODES + "\n\n" + HELP_TOPICS,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("--version", action="version", version=f"peridynamics {__version__}")
@@ -602,7 +607,8 @@ def build_parser() -> argparse.ArgumentParser:
             "--set",
             action="append",
             metavar="KEY.PATH=VALUE",
-            help="override a deck value (repeatable), e.g. solver.steps=100",
+            help="override a deck value (repeatable), e.g. solver.steps=100; the keys: "
+            "peridynamics help deck.SECTION",
         )
 
     def large_arg(sp: argparse.ArgumentParser) -> None:
@@ -617,7 +623,7 @@ def build_parser() -> argparse.ArgumentParser:
         "run",
         help="run a deck",
         epilog=EXIT_CODES + "\n\nCtrl-C stops after the current step and writes the outputs "
-        "and summary.json;\nwith --checkpoint-every N, resume with --resume DIR.",
+        "and summary.json;\nwith --checkpoint-every N, resume with --resume DIR.\n\n" + HELP_TOPICS,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     deck_args(r)

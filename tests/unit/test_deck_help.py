@@ -73,3 +73,13 @@ def test_the_wheel_carries_the_pages_help_prints() -> None:
     for page in ("deck.md", "output.md"):
         assert forced[f"docs/{page}"] == f"peridynamics/_docs/{page}"
         assert (ROOT / "docs" / page).is_file()
+
+
+def test_help_of_the_command_line_names_the_reference_topics() -> None:
+    from peridynamics.cli import build_parser
+
+    parser = build_parser()
+    assert "peridynamics help deck.SECTION" in parser.format_help()
+    sub = parser._subparsers._group_actions[0].choices  # type: ignore[union-attr]
+    assert "peridynamics help deck.SECTION" in sub["run"].format_help()
+    assert "peridynamics help" in " ".join(sub["check"].format_help().split())
