@@ -1,6 +1,8 @@
 """``.. cli-help:: [subcommand]``: the ``--help`` text of the ``peridynamics`` command
 (or one subcommand) as printed by the installed argument parser, so the command-line
-reference of the site cannot drift from the code."""
+reference of the site cannot drift from the code; ``.. deck-keys:: SECTION``: the keys
+of one deck section with types and defaults, from the deck schema (what
+``peridynamics help deck`` prints)."""
 
 from __future__ import annotations
 
@@ -44,6 +46,21 @@ class CliHelp(SphinxDirective):
         return [block]
 
 
+class DeckKeys(SphinxDirective):
+    """The keys of one top-level deck section from the schema, as a literal block."""
+
+    required_arguments = 1
+
+    def run(self) -> list[Any]:
+        from peridynamics.io.deck_help import deck_reference
+
+        text = deck_reference(self.arguments[0])
+        block = nodes.literal_block(text, text)
+        block["language"] = "text"
+        return [block]
+
+
 def setup(app: Any) -> dict[str, Any]:
     app.add_directive("cli-help", CliHelp)
+    app.add_directive("deck-keys", DeckKeys)
     return {"parallel_read_safe": True, "version": "1"}

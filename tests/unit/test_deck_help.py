@@ -83,3 +83,9 @@ def test_help_of_the_command_line_names_the_reference_topics() -> None:
     sub = parser._subparsers._group_actions[0].choices  # type: ignore[union-attr]
     assert "peridynamics help deck.SECTION" in sub["run"].format_help()
     assert "peridynamics help" in " ".join(sub["check"].format_help().split())
+
+
+def test_the_sites_key_page_has_every_section_of_the_schema() -> None:
+    page = (ROOT / "docs" / "deck_keys.md").read_text()
+    for key in Deck.model_fields:
+        assert f"## {key}\n" in page and f"```{{deck-keys}} {key}\n" in page, key
