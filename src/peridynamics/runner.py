@@ -289,7 +289,10 @@ def build_solver(
         raise
     except ValueError as exc:
         key = "solver.time_step" if isinstance(s, dk.Solver) else "solver"
-        raise SetupError(key, str(exc)) from None
+        msg = str(exc)
+        if msg.startswith("[") and "] " in msg:  # the message names its key
+            key, msg = msg[1:].split("] ", 1)
+        raise SetupError(key, msg) from None
 
 
 def _warp_solver(deck: dk.Deck, model: Model, kin: list, init: list) -> Solver:

@@ -165,3 +165,18 @@ def test_static_newton_and_adr_agree(tmp_path: Path) -> None:
         reactions.append(r["probes"]["r"]["values"][-1])
     assert reactions[0] > 0
     assert reactions[1] == pytest.approx(reactions[0], rel=1e-8)  # measured 2e-10
+
+
+def test_static_solver_refuses_the_principal_stress_law() -> None:
+    """The static solver breaks bonds by critical stretch between solves; with the
+    principal-stress law it would never break one, so the deck is refused by key."""
+    from tests.helpers import EXAMPLES, cli
+
+    proc = cli(
+        "check", "--bonds", str(EXAMPLES / "correspondence" / "plate_hole_damage.yaml"),
+        "--set", "damage.model=principal_stress", "--set", "damage.critical_stretch=null",
+        "--set", "damage.tensile_strength=3e8", "--set", "solver={type: static}",
+    )  # fmt: skip
+    assert proc.returncode == 2, proc.stderr
+    assert "damage.model: the principal-stress failure law" in proc.stderr
+    assert "solver.type: adr" in proc.stderr

@@ -814,7 +814,7 @@ class StaticSolverSpec(Strict):
     force with the model's tangent, ``load_steps`` load levels (cut back when Newton
     does not converge), prescribed displacements eliminated, and bond breaking between
     solves (scheme A, B or C of Zhou, Zhu & Li (n.d.)); ``linear_solver`` auto picks a
-    direct solver below 250 000 free dofs and AMG-preconditioned CG above."""
+    direct solver up to 250 000 free dofs and AMG-preconditioned CG above."""
 
     type: Literal["static"]
     load_steps: Annotated[int, Field(ge=1, le=1_000_000), _Num] = 10

@@ -188,6 +188,13 @@ def _type_name(ann: Any) -> str:
     )
 
 
+def _first_sentence(doc: str) -> str:
+    """The first sentence of a docstring's first paragraph, on one line."""
+    para = " ".join(doc.strip().split("\n\n")[0].split())
+    m = re.search(r"(?<!e\.g)(?<!i\.e)\.(\s|$)", para)
+    return para[: m.start() + 1] if m else para
+
+
 def _sub_models(ann: Any) -> list[Any]:
     from pydantic import BaseModel
 
@@ -230,7 +237,7 @@ def deck_reference(section: str | None = None) -> str:
                 lines.append(f"{indent}  (the keys listed under {shown[subs[0]]})")
                 continue
             for sub in subs:
-                doc = (sub.__doc__ or sub.__name__).strip().splitlines()[0]
+                doc = _first_sentence(sub.__doc__ or sub.__name__)
                 pad = indent + ("    " if len(subs) > 1 else "  ")
                 if len(subs) > 1:
                     lines.append(f"{indent}  - {doc}")

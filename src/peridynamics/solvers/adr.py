@@ -519,8 +519,10 @@ class ADRSolver:
             raise SimulationUnstable(
                 f"adaptive dynamic relaxation diverged in load step {s.step} "
                 f"(pseudo-time {s.t:.6g}): point {k} at {coords} has a non-finite "
-                "displacement or force. Raise the fictitious density (density_factor, "
-                f"now {self.density_factor}) or check the loads and contact stiffness.",
+                "displacement or force. Check the loads, the contact stiffness and the "
+                "boundary conditions (a body free to move as a rigid body); in the Python "
+                f"API a larger ADRSolver(density_factor=...) (now {self.density_factor}) "
+                "damps harder.",
                 step=s.step,
                 time=s.t,
                 point=k,

@@ -163,6 +163,13 @@ class StaticSolver:
         self.fixed = fixed.reshape(-1)
         self._volume = np.repeat(np.asarray(model.cloud.volume, dtype=np.float64), self.width)
         law = model.damage_law
+        if math.isfinite(getattr(law, "tensile_strength", math.inf)):
+            raise ValueError(
+                "[damage.model] the principal-stress failure law breaks bonds in explicit "
+                "and adr runs only; the static solver breaks bonds by critical stretch: "
+                "use damage.model: critical_stretch (fracture_energy or critical_stretch)"
+                " or solver.type: adr"
+            )
         self.breaker: PairBreaker | None = None
         if isinstance(law, CriticalStretchLaw) and law.active:
             self.breaker = PairBreaker(model.bonds, law.point_s0, breaking, bonds_per_event)
