@@ -341,6 +341,14 @@ def cmd_run(args: argparse.Namespace) -> int:
             f"({t['bond_updates_per_s']:.3g} bond updates/s); max damage "
             f"{r['max_damage']:.3f}; wrote {out / 'summary.json'}"
         )
+    if summary["results"].get("converged") is False:  # adr / static: reported, not an error
+        r = summary["results"]
+        steps = r.get("not_converged_load_steps")
+        _err(
+            "warning: the static solve did not converge"
+            + (f" in load steps {steps}" if steps else "")
+            + f": {r.get('message') or 'see summary.json'} (results.converged is false)"
+        )
     return EXIT_OK
 
 

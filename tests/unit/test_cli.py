@@ -101,3 +101,17 @@ def test_examples_copy(tmp_path: Path) -> None:
     proc = cli("examples", "copy", "no_such_example", dest)
     assert proc.returncode == 2
     assert "unknown example" in proc.stderr
+
+
+def test_a_static_solve_that_does_not_converge_warns_on_stderr(tmp_path, capsys) -> None:
+    """Not converging is reported (results.converged false, exit 0), and said."""
+    from peridynamics.cli import main
+
+    deck = str(EXAMPLES / "plate_tension_2d" / "adr.yaml")
+    sets = ["--set", "solver.max_iterations=20", "--set", "discretisation.spacing=1e-3"]
+    assert main(["run", deck, *sets, "--out", str(tmp_path / "nc"), "--quiet"]) == 0
+    err = capsys.readouterr().err
+    assert "warning: the static solve did not converge in load steps [1]" in err
+    assert main(["run", deck, sets[0], sets[1].replace("20", "200000"), *sets[2:],
+                 "--out", str(tmp_path / "ok"), "--quiet"]) == 0  # fmt: skip
+    assert "did not converge" not in capsys.readouterr().err
