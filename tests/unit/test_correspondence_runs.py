@@ -178,5 +178,5 @@ def test_static_solver_refuses_the_principal_stress_law() -> None:
         "--set", "damage.tensile_strength=3e8", "--set", "solver={type: static}",
     )  # fmt: skip
     assert proc.returncode == 2, proc.stderr
-    assert "damage.model: the principal-stress failure law" in proc.stderr
+    assert "damage.tensile_strength: the principal-stress failure criterion" in proc.stderr
     assert "solver.type: adr" in proc.stderr

@@ -586,3 +586,17 @@ def test_woodbury_update_equals_a_fresh_factorisation(refresh: int, monkeypatch)
         x = upd.solve(b)
         assert np.allclose(x, np.linalg.solve(k, b), rtol=1e-10, atol=1e-12), event
     assert upd.rank <= 24 and upd.column_solves == upd.rank
+
+
+def test_static_solver_refuses_sed_softening() -> None:
+    """The static solver never commits softening levels; a softening deck is refused by
+    key instead of running as if it were elastic."""
+    from tests.helpers import EXAMPLES, cli
+
+    proc = cli(
+        "check", "--bonds", str(EXAMPLES / "static_fracture" / "notched_plate_adr.yaml"),
+        "--set", "damage.sed_softening={levels: 10, k_c: 4.0, residual: 0.05}",
+        "--set", "solver={type: static}",
+    )  # fmt: skip
+    assert proc.returncode == 2, proc.stderr
+    assert "damage.sed_softening: the static solver does not soften bonds" in proc.stderr

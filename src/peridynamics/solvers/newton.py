@@ -165,10 +165,17 @@ class StaticSolver:
         law = model.damage_law
         if math.isfinite(getattr(law, "tensile_strength", math.inf)):
             raise ValueError(
-                "[damage.model] the principal-stress failure law breaks bonds in explicit "
-                "and adr runs only; the static solver breaks bonds by critical stretch: "
-                "use damage.model: critical_stretch (fracture_energy or critical_stretch)"
-                " or solver.type: adr"
+                "[damage.tensile_strength] the principal-stress failure criterion breaks "
+                "bonds in explicit and adr runs only; the static solver breaks bonds by "
+                "critical stretch between solves: remove tensile_strength (with "
+                "damage.model: critical_stretch and fracture_energy or critical_stretch) "
+                "or use solver.type: adr"
+            )
+        if getattr(model, "softening", None) is not None:
+            raise ValueError(
+                "[damage.sed_softening] the static solver does not soften bonds (it breaks "
+                "them by critical stretch between solves): use solver.type: adr, or remove "
+                "sed_softening"
             )
         self.breaker: PairBreaker | None = None
         if isinstance(law, CriticalStretchLaw) and law.active:
