@@ -28,7 +28,7 @@ ROOT = Path(__file__).resolve().parents[2]
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 SHOTS = {
     "landing.png": "index.html",
-    "user_guide.png": "theory_bond_based.html",
+    "user_guide.png": "solvers.html",
     "deck_reference.png": "deck.html",
     "gallery_entry.png": "gallery/rock_compression.html",
 }
@@ -128,7 +128,14 @@ _CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-qui
 @pytest.mark.skipif(CHROMIUM is None, reason="chromium not installed (apt install chromium)")
 def test_pages_render_in_chromium_with_every_image(site: Path, tmp_path: Path) -> None:
     gallery = sorted((site / "gallery").glob("*.html"))
-    pages = ["index.html", "deck.html", "theory_bond_based.html", "api.html"]
+    pages = [
+        "index.html",
+        "deck.html",
+        "solvers.html",
+        "models.html",
+        "theory_bond_based.html",
+        "api.html",
+    ]
     pages += [str(p.relative_to(site)) for p in gallery]
     images = 0
     for name in pages:
