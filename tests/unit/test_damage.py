@@ -86,8 +86,12 @@ def test_critical_stretch_validation():
 
 @pytest.mark.parametrize("dim", [1, 2, 3])
 def test_fused_explicit_path_equals_trial_commit_force(dim) -> None:
-    """The explicit fast path (PMB force_and_break) gives the same bits as the damage
-    law's trial, its commit and the pure force pass in turn."""
+    """The explicit fast path (PMB force_and_break) breaks the same bonds as the damage
+    law's trial and its commit, and gives the force of the pure force pass in turn: the
+    same bits in 2-D and 3-D; in 1-D within 4 ulp of the largest force (both passes are
+    fast-math kernels, whose sums LLVM may vectorise differently: 8 of 40 components
+    differed by 1.0e-16 of the largest force on an AVX2 AMD EPYC, none on the machines
+    before it)."""
     rng = np.random.default_rng(7)
     cloud = body(dim)
     b = build_bonds(cloud, 3.015 * DX)
@@ -102,7 +106,11 @@ def test_fused_explicit_path_equals_trial_commit_force(dim) -> None:
     assert model.damage_law.commit(split) == proposed == broken > 0
     model.force_model.force(split)
     assert np.array_equal(fused.intact, split.intact)
-    assert np.array_equal(fused.force, split.force)
+    if dim == 1:
+        ulp = np.spacing(np.abs(split.force).max())
+        assert np.abs(fused.force - split.force).max() <= 4 * ulp
+    else:
+        assert np.array_equal(fused.force, split.force)
     assert np.array_equal(fused.max_stretch, split.max_stretch)
     assert fused.bonds_broken == split.bonds_broken == broken
     # the pure evaluation breaks nothing
