@@ -288,11 +288,9 @@ def build_solver(
     except SetupError:
         raise
     except ValueError as exc:
+        named, msg = dk.named_key(str(exc))
         key = "solver.time_step" if isinstance(s, dk.Solver) else "solver"
-        msg = str(exc)
-        if msg.startswith("[") and "] " in msg:  # the message names its key
-            key, msg = msg[1:].split("] ", 1)
-        raise SetupError(key, msg) from None
+        raise SetupError(named or key, msg) from None
 
 
 def _warp_solver(deck: dk.Deck, model: Model, kin: list, init: list) -> Solver:

@@ -8,22 +8,18 @@ its figure. The run's own results at 46 us are checked by
 
 from __future__ import annotations
 
-import importlib.util
 import json
 from pathlib import Path
 
 import pytest
 
-from tests.helpers import EXAMPLES
+from tests.helpers import EXAMPLES, load_script
 
 SCRIPT = EXAMPLES / "crack_branching_2d" / "make_figures.py"
 
 
 def test_make_figures_small(tmp_path: Path) -> None:
-    spec = importlib.util.spec_from_file_location("cb_figures", SCRIPT)
-    assert spec is not None and spec.loader is not None
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
+    mod = load_script(SCRIPT, "cb_figures")
     sets = [
         "discretisation.spacing=5e-4",
         "discretisation.horizon=2e-3",

@@ -11,23 +11,17 @@ margin.
 
 from __future__ import annotations
 
-import importlib.util
 import json
 from pathlib import Path
+from types import ModuleType
 
 import pytest
 
-from tests.helpers import EXAMPLES
+from tests.helpers import EXAMPLES, load_script
 
 
-def _script(folder: str):
-    spec = importlib.util.spec_from_file_location(
-        f"gallery_{folder}", EXAMPLES / folder / "make_figures.py"
-    )
-    assert spec is not None and spec.loader is not None
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+def _script(folder: str) -> ModuleType:
+    return load_script(EXAMPLES / folder / "make_figures.py", f"gallery_{folder}")
 
 
 def _run(tmp_path: Path, folder: str, case: str, *args: str) -> dict:

@@ -5,22 +5,18 @@ the figure the script adds."""
 
 from __future__ import annotations
 
-import importlib.util
 import json
 from pathlib import Path
 
 import pytest
 
-from tests.helpers import EXAMPLES
+from tests.helpers import EXAMPLES, load_script
 
 SCRIPT = EXAMPLES / "research" / "make_figures.py"
 
 
 def test_make_figures_small(tmp_path: Path) -> None:
-    spec = importlib.util.spec_from_file_location("research_figures", SCRIPT)
-    assert spec is not None and spec.loader is not None
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
+    mod = load_script(SCRIPT, "research_figures")
     sets = [
         "discretisation.spacing=1e-3",
         "discretisation.horizon_factor=3",

@@ -1470,6 +1470,15 @@ def _section_of(path: str) -> str:
     return parts[-1] if parts else ""
 
 
+def named_key(msg: str) -> tuple[str | None, str]:
+    """``"[key] message"`` (a validator or solver naming the offending key) -> (key,
+    message); (None, msg) for a message that names none."""
+    if msg.startswith("[") and "] " in msg:
+        key, rest = msg[1:].split("] ", 1)
+        return key, rest
+    return None, msg
+
+
 def validation_errors(exc: ValidationError) -> list[tuple[str, str]]:
     """(key path, message) pairs from a pydantic error."""
     out = []
@@ -1494,9 +1503,9 @@ def validation_errors(exc: ValidationError) -> list[tuple[str, str]]:
             if not missing:
                 path = f"{path}.{key}" if path else key
         msg = msg.removeprefix("Value error, ")
-        if msg.startswith("[") and "] " in msg:  # validator names the offending key
-            key, msg = msg[1:].split("] ", 1)
-            path = f"{path}.{key}" if path else key
+        named, msg = named_key(msg)
+        if named is not None:  # relative to the section the validator checks
+            path = f"{path}.{named}" if path else named
         if "input" in e and e["type"] not in ("missing", "extra_forbidden"):
             inp = e["input"]
             if not isinstance(inp, dict | list):

@@ -11,6 +11,7 @@ name these topics (:func:`hint`).
 
 from __future__ import annotations
 
+import functools
 import json
 import re
 import typing
@@ -38,6 +39,7 @@ class HelpTopicError(KeyError):
         return str(self.args[0])
 
 
+@functools.cache
 def page_text(page: str) -> str:
     """The Markdown source of a reference page (``"deck.md"``, ``"output.md"``): the
     installed copy first, then the source tree's ``docs/``."""
@@ -132,9 +134,8 @@ def help_text(topic: str) -> str:
     if page == "deck" and len(parts) == 1:
         from peridynamics.io.deck import Deck
 
-        keys = [k for k, h in _KEY_HEADING.items() if h == _KEY_HEADING.get(parts[0])]
-        keys = keys or [parts[0]]
-        keys = [k for k in keys if k in Deck.model_fields]
+        heading = slug(body.splitlines()[0].removeprefix("## "))
+        keys = [k for k in Deck.model_fields if _KEY_HEADING.get(k, k) == heading]
         if keys:
             out += ["", "Keys in this version (from the schema):", ""]
             out += [deck_reference(k) for k in keys]
@@ -146,16 +147,12 @@ def hint(paths: Iterable[str]) -> str:
     """One line naming the help topics of the deck sections in ``paths`` (key paths of
     errors), e.g. ``help: peridynamics help deck.geometry (likewise deck.solver)``; empty
     when none is known."""
-    names: list[str] = []
-    for path in paths:
-        top = path.split(".")[0].split("[")[0]
-        if top and top not in names and (top in _KEY_HEADING or re.fullmatch(r"[a-z_]+", top)):
-            names.append(top)
     try:
         known = {t.split(".", 1)[1] for t in topics("deck")}
     except FileNotFoundError:
         return ""
-    shown = [n for n in names if _KEY_HEADING.get(n, n) in known]
+    tops = dict.fromkeys(path.split(".")[0] for path in paths)  # in order, once each
+    shown = [n for n in tops if _KEY_HEADING.get(n, n) in known]
     if not shown:
         return ""
     more = f" (likewise deck.{', deck.'.join(shown[1:])})" if len(shown) > 1 else ""
