@@ -21,7 +21,7 @@ from tempfile import TemporaryDirectory
 
 import numpy as np
 
-from peridynamics.io.deck import parse_deck
+from peridynamics.deck import parse_deck
 from peridynamics.runner import Simulation
 
 E, SIGMA = 70e9, 1e6

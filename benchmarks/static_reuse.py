@@ -33,7 +33,7 @@ def _cpu() -> str:
 
 def run(reuse: bool, spacing: float, size: float, solves: int) -> dict:
     """One run; returns timing and the final bond status."""
-    from peridynamics.io.deck import load_deck
+    from peridynamics.deck import load_deck
     from peridynamics.runner import Simulation
 
     sets = [

@@ -52,7 +52,7 @@ class DeckKeys(SphinxDirective):
     required_arguments = 1
 
     def run(self) -> list[Any]:
-        from peridynamics.io.deck_help import deck_reference
+        from peridynamics.deck.reference import deck_reference
 
         text = deck_reference(self.arguments[0])
         block = nodes.literal_block(text, text)

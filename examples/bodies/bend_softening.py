@@ -76,7 +76,7 @@ def run_dir(out: Path, law: str, spacing: float) -> Path:
 
 
 def deck_for(law: str, spacing: float | None, sets: list[str]) -> dict[str, Any]:
-    from peridynamics.io.deck import apply_overrides
+    from peridynamics.deck import apply_overrides
 
     extra = [] if spacing is None else [f"discretisation.spacing={spacing!r}"]
     return apply_overrides(law_deck(law), list(sets) + extra)
@@ -84,7 +84,7 @@ def deck_for(law: str, spacing: float | None, sets: list[str]) -> dict[str, Any]
 
 def run(law: str, spacing: float | None, out: Path, sets: list[str]) -> Path:
     """Run one law at one spacing (``None``: the deck's); returns its folder."""
-    from peridynamics.io.deck import parse_deck
+    from peridynamics.deck import parse_deck
     from peridynamics.runner import Simulation
 
     data = deck_for(law, spacing, sets)

@@ -41,7 +41,7 @@ DAMAGED = 0.35
 
 def disc_deck(ratio: float, sets: list[str]) -> dict[str, Any]:
     """The deck with spacing D / ratio (and ``--set`` overrides)."""
-    from peridynamics.io.deck import apply_overrides
+    from peridynamics.deck import apply_overrides
 
     data = yaml.safe_load(DECK.read_text())
     d = 2.0 * float(data["geometry"]["holes"][0]["not"]["circle"]["radius"])
@@ -53,7 +53,7 @@ def disc_deck(ratio: float, sets: list[str]) -> dict[str, Any]:
 
 def run_case(data: dict[str, Any], out: Path) -> None:
     """Run one deck into ``out``."""
-    from peridynamics.io.deck import parse_deck
+    from peridynamics.deck import parse_deck
     from peridynamics.runner import Simulation
 
     sim = Simulation.from_deck(parse_deck(data))

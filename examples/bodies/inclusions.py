@@ -58,7 +58,7 @@ def case_deck(case: str, sets: list[str]) -> dict[str, Any]:
     """The deck as a mapping with the overrides; ``strong``: the interface's critical
     stretch is the mortar's (after the overrides); ``plain``: no aggregates (the
     mortar everywhere)."""
-    from peridynamics.io.deck import apply_overrides
+    from peridynamics.deck import apply_overrides
 
     data = apply_overrides(yaml.safe_load(DECK.read_text()), list(sets))
     if case == "strong":
@@ -78,7 +78,7 @@ def run_deck(case: str, sets: list[str]) -> dict[str, Any]:
 
 
 def simulation(data: dict[str, Any]) -> Any:
-    from peridynamics.io.deck import parse_deck
+    from peridynamics.deck import parse_deck
     from peridynamics.runner import Simulation
 
     return Simulation.from_deck(parse_deck(data, HERE))

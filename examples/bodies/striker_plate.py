@@ -39,7 +39,7 @@ R_MIN, R_MAX, BINS = 0.003, 0.015, 36
 
 def cloud_deck(jitter: float | None, seed: int, sets: list[str]) -> dict[str, Any]:
     """The deck with ``jitter`` (None: the deck's) and ``seed``."""
-    from peridynamics.io.deck import apply_overrides
+    from peridynamics.deck import apply_overrides
 
     data = yaml.safe_load(DECK.read_text())
     if jitter is not None:
@@ -117,7 +117,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     p.add_argument("--no-run", action="store_true", help="analyse finished runs only")
     a = p.parse_args(argv)
-    from peridynamics.io.deck import parse_deck
+    from peridynamics.deck import parse_deck
     from peridynamics.runner import Simulation
 
     a.out.mkdir(parents=True, exist_ok=True)

@@ -82,7 +82,7 @@ def variant_deck(case: str, variant: str) -> dict[str, Any]:
 def run_variant(case: str, variant: str, out: Path, sets: list[str], run: bool) -> dict[str, Any]:
     """Run (or re-read) one variant; returns summary.json's content. ``sets`` entries
     ``variant:key=value`` apply to that variant only."""
-    from peridynamics.io.deck import apply_overrides, parse_deck
+    from peridynamics.deck import apply_overrides, parse_deck
     from peridynamics.runner import Simulation
 
     folder = out / case / variant
@@ -124,7 +124,7 @@ def oscillation(x: np.ndarray, u: np.ndarray, dx: float) -> float:
 
 def _cauchy(case_deck: dict[str, Any], variant: str, state: Any) -> np.ndarray:
     """sigma_xx of every point: the correspondence stress, or the PMB virial stress."""
-    from peridynamics.io.deck import parse_deck
+    from peridynamics.deck import parse_deck
     from peridynamics.runner import Simulation
 
     sim = Simulation.from_deck(parse_deck(case_deck, HERE))
@@ -156,7 +156,7 @@ def plate(out: Path, sets: list[str], run: bool) -> dict[str, Any]:
         shift = uf[pin, 1] - u[pin, 1]
         err = np.abs(u - uf + [0.0, shift]).max() / np.abs(uf).max()
         reaction = float(summ["results"]["probes"]["reaction"]["values"][-1])
-        from peridynamics.io.deck import apply_overrides
+        from peridynamics.deck import apply_overrides
 
         deck = apply_overrides(
             variant_deck("plate", var), [x for x in sets if ":" not in x.split("=", 1)[0]]

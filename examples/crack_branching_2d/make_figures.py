@@ -82,7 +82,7 @@ def rayleigh_speeds(sim: Any) -> dict[str, float | None]:
 
 def run(out: Path, sets: list[str], no_run: bool) -> tuple[dict[str, Any], dict[str, float]]:
     """Run the deck into ``out`` (unless ``no_run``); (summary, Rayleigh speeds)."""
-    from peridynamics.io.deck import load_deck
+    from peridynamics.deck import load_deck
     from peridynamics.runner import Simulation
 
     deck = load_deck(HERE / "deck.yaml", overrides=sets)

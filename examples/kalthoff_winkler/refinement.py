@@ -53,7 +53,7 @@ from peridynamics.analysis.crack_path import (
     rayleigh_speed,
     tip_speed_from_paths,
 )
-from peridynamics.io.deck import RectangleGeometry, load_deck
+from peridynamics.deck import RectangleGeometry, load_deck
 from peridynamics.runner import Simulation, build_cloud
 from peridynamics.solvers.explicit import ExplicitSolver
 

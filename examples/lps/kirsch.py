@@ -65,7 +65,7 @@ from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.geometry.cloud import PointCloud
-from peridynamics.io.deck import Deck, load_deck
+from peridynamics.deck import Deck, load_deck
 from peridynamics.runner import Simulation, build_bonds_for, build_cloud
 
 HERE = Path(__file__).resolve().parent

@@ -29,7 +29,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from peridynamics.io.deck import load_deck  # noqa: E402
+from peridynamics.deck import load_deck  # noqa: E402
 from peridynamics.runner import Simulation  # noqa: E402
 
 

@@ -22,7 +22,7 @@ try:
 except ImportError:  # running from a checkout without installing
     sys.path.insert(0, str(HERE.parents[1] / "src"))
 
-from peridynamics.io.deck import load_deck  # noqa: E402
+from peridynamics.deck import load_deck  # noqa: E402
 from peridynamics.runner import Simulation  # noqa: E402
 
 #: Lu & Wang (2016), Table 1:

@@ -22,7 +22,7 @@ except ImportError:  # running from a checkout without installing
 
 import numpy as np  # noqa: E402
 
-from peridynamics.io.deck import load_deck  # noqa: E402
+from peridynamics.deck import load_deck  # noqa: E402
 from peridynamics.runner import Simulation  # noqa: E402
 
 SCHEMES = {"pd3": "PD3", "pd1_pd3": "PD1→PD3", "fdm_pd3": "FDM→PD3"}

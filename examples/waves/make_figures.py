@@ -39,7 +39,7 @@ from peridynamics.analysis.waves import (  # noqa: E402
     energy_spectral_density,
     pulse_comparison,
 )
-from peridynamics.io.deck import load_deck  # noqa: E402
+from peridynamics.deck import load_deck  # noqa: E402
 from peridynamics.runner import Simulation  # noqa: E402
 
 KINDS = ("plain", "linear", "polynomial")

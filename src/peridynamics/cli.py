@@ -77,7 +77,7 @@ def _invalid_deck(exc: Any) -> str:
 
 
 def _load(args: argparse.Namespace):  # noqa: ANN202 - returns a Deck
-    from peridynamics.io.deck import DeckError, load_deck
+    from peridynamics.deck import DeckError, load_deck
 
     try:
         return load_deck(args.deck, overrides=args.set or [])
@@ -126,7 +126,7 @@ def _size_problem(
     """Why the model is too large for this machine (``None`` when it fits, when the size
     cannot be estimated yet, or with ``allow_large``). ``share``: the part of the model
     this machine holds (under MPI: its ranks / all ranks)."""
-    from peridynamics.io.deck import estimate_size
+    from peridynamics.deck import estimate_size
 
     est = estimate_size(deck, n_points)
     if est is None or allow_large:
@@ -208,7 +208,7 @@ def cmd_check(args: argparse.Namespace) -> int:
     estimated first and a model that cannot fit in memory is refused (exit 2) unless
     ``--allow-large``.
     """
-    from peridynamics.io.deck import MeshGeometry, estimate_size, estimate_steps
+    from peridynamics.deck import MeshGeometry, estimate_size, estimate_steps
     from peridynamics.runner import SetupError, Simulation, build_cloud
 
     deck = _load(args)
@@ -251,7 +251,7 @@ def _resume_hint(args: argparse.Namespace, out: Path) -> str:
 
 def cmd_run(args: argparse.Namespace) -> int:
     """Run a deck."""
-    from peridynamics.io.deck import MeshGeometry
+    from peridynamics.deck import MeshGeometry
     from peridynamics.runner import RunInterrupted, SetupError, Simulation, build_cloud
     from peridynamics.solvers import SimulationUnstable
 

@@ -83,7 +83,7 @@ def _run_members(
         _out_of_memory,
         _refuse,
     )
-    from peridynamics.io.deck import DeckError, load_deck
+    from peridynamics.deck import DeckError, load_deck
     from peridynamics.runner import RunInterrupted, SetupError, Simulation
     from peridynamics.solvers import SimulationUnstable
 

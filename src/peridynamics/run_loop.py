@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from peridynamics.io import deck as dk
+from peridynamics import deck as dk
 from peridynamics.io.checkpoint import CHECKPOINT_NAME, read_checkpoint, read_checkpoint_meta
 from peridynamics.io.observers import (
     CrashAtStep,

@@ -39,7 +39,7 @@ from peridynamics.geometry import (
     from_mesh,
     rectangle,
 )
-from peridynamics.io import deck as dk
+from peridynamics import deck as dk
 from peridynamics.io.regions import to_region
 from peridynamics.loading import conditions as bc
 from peridynamics.loading import time_functions as tf

@@ -76,7 +76,7 @@ class Case:
 
 def parse_value(text: str, where: str) -> Any:
     """Parse a value as ``--set`` does (YAML; ``1e-3`` and ``0.8e6`` are floats)."""
-    from peridynamics.io.deck import yaml_load
+    from peridynamics.deck import yaml_load
 
     try:
         return yaml_load(text)
@@ -178,7 +178,7 @@ def read_cases(path: str) -> list[list[Override]]:
     YAML: a list of mappings ``{key.path: value}``. CSV: a header of key paths, one row
     per case; an empty cell leaves that key as the deck has it.
     """
-    from peridynamics.io.deck import yaml_load
+    from peridynamics.deck import yaml_load
 
     p = Path(path)
     opt = f"--cases {path}"
@@ -313,7 +313,7 @@ def fingerprint(deck: Any) -> str:
     """Hash of the validated deck (every default filled in), the package version and a
     mesh file: what ``Simulation.fingerprint`` hashes for a checkpoint."""
     from peridynamics import __version__
-    from peridynamics.io.deck import MeshGeometry
+    from peridynamics.deck import MeshGeometry
 
     text = json.dumps(deck.model_dump(mode="json", by_alias=True), sort_keys=True)
     h = hashlib.sha256(text.encode())
@@ -328,7 +328,7 @@ def validate(deck_path: str, sets: list[str], cases: list[Case], allow_large: bo
     case's fingerprint, cost (estimated bond updates) and deck name. Returns ``None`` or
     the message that names the invalid cases and their keys (nothing has run)."""
     from peridynamics.cli import _size_problem, _work_problem
-    from peridynamics.io.deck import DeckError, estimate_size, estimate_steps, load_deck
+    from peridynamics.deck import DeckError, estimate_size, estimate_steps, load_deck
 
     bad: dict[str, list[Case]] = {}
     for case in cases:

@@ -155,7 +155,7 @@ def test_every_example_deck_sets_up(deck) -> None:
     check included), whether or not another test runs it."""
     import warnings
 
-    from peridynamics.io.deck import load_deck
+    from peridynamics.deck import load_deck
     from peridynamics.runner import Simulation
 
     with warnings.catch_warnings():

@@ -13,7 +13,7 @@ from peridynamics.analysis.waves import (
     energy_spectral_density,
     pulse_comparison,
 )
-from peridynamics.io.deck import load_deck
+from peridynamics.deck import load_deck
 from peridynamics.runner import Simulation
 from tests.helpers import EXAMPLES, cli
 

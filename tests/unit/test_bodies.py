@@ -13,7 +13,7 @@ from peridynamics.bodies.composite import BodiesDamage, BodiesMaterial, BodyPart
 from peridynamics.bodies.interface import InterfaceBonds
 from peridynamics.damage import CriticalStretch
 from peridynamics.geometry import rectangle
-from peridynamics.io import deck as dk
+from peridynamics import deck as dk
 from peridynamics.materials import MATERIALS
 from peridynamics.runner import SetupError, Simulation
 from peridynamics.solvers.explicit import ExplicitSolver

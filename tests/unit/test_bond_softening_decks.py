@@ -15,7 +15,7 @@ import pytest
 from peridynamics import BondBasedMaterial, CriticalStretch, Model
 from peridynamics.damage import CriticalStretchLaw
 from peridynamics.damage.bond_softening import SofteningBonds
-from peridynamics.io.deck import DeckError, parse_deck
+from peridynamics.deck import DeckError, parse_deck
 from peridynamics.kernels.reference import stretch
 from peridynamics.runner import Simulation, build_bonds_for, build_damage
 

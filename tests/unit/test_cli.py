@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from peridynamics.io.deck import load_deck
+from peridynamics.deck import load_deck
 
 ROOT = Path(__file__).resolve().parents[2]
 SRC = ROOT / "src"

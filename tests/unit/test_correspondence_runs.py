@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from peridynamics.io.deck import DeckError, parse_deck
+from peridynamics.deck import DeckError, parse_deck
 from peridynamics.runner import Simulation
 
 BASE = {

@@ -16,7 +16,7 @@ from typing import Any
 import pytest
 import yaml
 
-from peridynamics.io.deck import (
+from peridynamics.deck import (
     Deck,
     DeckError,
     apply_overrides,

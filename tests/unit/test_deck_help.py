@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 
 from peridynamics.cli import main
-from peridynamics.io.deck import Deck, DeckError, load_deck
-from peridynamics.io.deck_help import anchor, hint, section, topics
+from peridynamics.deck import Deck, DeckError, load_deck
+from peridynamics.deck.help import anchor, hint, section, topics
 
 ROOT = Path(__file__).resolve().parents[2]
 BAR = ROOT / "examples" / "bar_wave_1d" / "deck.yaml"

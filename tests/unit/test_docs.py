@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from peridynamics.io.deck import parse_deck
+from peridynamics.deck import parse_deck
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "deck.md"
 BLOCKS = re.findall(r"```yaml\n(.*?)```", DOC.read_text(), flags=re.S)
@@ -64,8 +64,8 @@ def _schema_keys() -> list[tuple[str, str, object]]:
     deck schema, each (model, key) once."""
     from pydantic_core import PydanticUndefined
 
-    from peridynamics.io.deck import Deck
-    from peridynamics.io.deck_help import _sub_models
+    from peridynamics.deck import Deck
+    from peridynamics.deck.reference import _sub_models
 
     out: list[tuple[str, str, object]] = []
     seen: set[tuple[object, str]] = set()

@@ -109,7 +109,7 @@ def test_no_broken_link_or_missing_image(site: Path) -> None:
 
 def test_help_topics_point_to_anchors_of_the_site(site: Path) -> None:
     """``peridynamics help deck.X`` ends with the section's address on the site."""
-    from peridynamics.io.deck_help import section, topics
+    from peridynamics.deck.help import section, topics
 
     for page in ("deck", "output"):
         ids = _parse(site / f"{page}.html").ids

@@ -24,13 +24,8 @@ import yaml
 from peridynamics import cli as cli_mod
 from peridynamics.cli import main
 from peridynamics.io.checkpoint import CHECKPOINT_NAME, read_checkpoint, read_checkpoint_meta
-from peridynamics.io.deck import (
-    DeckError,
-    estimate_size,
-    estimate_steps,
-    load_deck,
-    yaml_load,
-)
+from peridynamics.build.estimates import estimate_size, estimate_steps
+from peridynamics.deck import DeckError, load_deck, yaml_load
 from peridynamics.runner import RunInterrupted, SetupError, Simulation
 from tests.helpers import EXAMPLES, ROOT
 

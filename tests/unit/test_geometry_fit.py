@@ -27,7 +27,7 @@ from peridynamics.geometry import (
 )
 from peridynamics.geometry.generators import fit_cells
 from peridynamics.geometry.regions import Ball
-from peridynamics.io.deck import DeckError, parse_deck
+from peridynamics.deck import DeckError, parse_deck
 from peridynamics.runner import SetupError, Simulation, build_cloud, build_conditions
 
 DX = 1.0e-3
@@ -360,7 +360,7 @@ def test_disc_deck_runs_with_edge_sets() -> None:
 
 
 def test_help_lists_disc_and_notches() -> None:
-    from peridynamics.cli import deck_reference
+    from peridynamics.deck.reference import deck_reference
 
     geo = deck_reference("geometry")
     assert "type: disc" in geo and "center: [number, number]" in geo

@@ -10,7 +10,7 @@ import pytest
 import yaml
 
 from peridynamics.cli import main
-from peridynamics.io.deck import DeckError, load_deck, parse_deck
+from peridynamics.deck import DeckError, load_deck, parse_deck
 from peridynamics.loading.conditions import FIELD_FUNCTIONS, FieldExpression
 from peridynamics.runner import SetupError, Simulation, build_cloud, build_conditions
 

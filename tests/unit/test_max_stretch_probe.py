@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 import yaml
 
-from peridynamics.io.deck import apply_overrides, parse_deck
+from peridynamics.deck import apply_overrides, parse_deck
 from peridynamics.runner import Simulation
 
 DECK = """

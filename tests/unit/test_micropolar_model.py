@@ -399,7 +399,7 @@ def test_explicit_deck_writes_rotation_and_moment(tmp_path):
 
     import meshio
 
-    from peridynamics.io.deck import parse_deck
+    from peridynamics.deck import parse_deck
     from peridynamics.runner import Simulation
 
     deck = parse_deck(

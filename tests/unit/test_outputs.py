@@ -14,7 +14,7 @@ import meshio
 import numpy as np
 import pytest
 
-from peridynamics.io.deck import DeckError, parse_deck
+from peridynamics.deck import DeckError, parse_deck
 from peridynamics.runner import Simulation
 
 PLATE: dict[str, Any] = {

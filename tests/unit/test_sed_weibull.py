@@ -222,7 +222,7 @@ def test_partial_stiffness_rebuild_equals_the_full_one() -> None:
 def test_explicit_micromodulus_option() -> None:
     """SED-PD (2021) prints the 3-D c = 18 k / (pi delta^4) for a plane-stress model: the
     ``micromodulus`` option uses any given c; the bond stiffness scales with it."""
-    from peridynamics.io.deck import DeckError, parse_deck
+    from peridynamics.deck import DeckError, parse_deck
 
     delta, t = 1.5e-3, 0.02
     k = E / (3 * (1 - 2 * 0.25))

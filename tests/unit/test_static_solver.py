@@ -27,7 +27,7 @@ from peridynamics.bonds.bonds import build_bonds
 from peridynamics.bonds.precrack import make_crack
 from peridynamics.damage.critical_stretch import CriticalStretch
 from peridynamics.geometry.generators import rectangle
-from peridynamics.io.deck import DeckError, parse_deck
+from peridynamics.deck import DeckError, parse_deck
 from peridynamics.loading.conditions import BodyForce, Fixed, PrescribedDisplacement
 from peridynamics.materials.bond_based import BondBasedMaterial
 from peridynamics.materials.lps import LPSMaterial

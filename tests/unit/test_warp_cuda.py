@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from peridynamics.io.deck import load_deck
+from peridynamics.deck import load_deck
 from peridynamics.runner import Simulation
 from tests.helpers import EXAMPLES
 

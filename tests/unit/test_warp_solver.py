@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from peridynamics.io.deck import load_deck, parse_deck
+from peridynamics.deck import load_deck, parse_deck
 from peridynamics.runner import SetupError, Simulation
 from peridynamics.solvers import SimulationUnstable
 from tests.helpers import EXAMPLES
@@ -117,7 +117,7 @@ def test_one_dimensional_bars(tmp_path: Path, deck: str) -> None:
 def _text_deck(text: str, extra: list[str]):
     import yaml
 
-    from peridynamics.io.deck import apply_overrides
+    from peridynamics.deck import apply_overrides
 
     raw = yaml.safe_load(text)
     return parse_deck(apply_overrides(raw, extra))

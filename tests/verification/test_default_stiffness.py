@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from peridynamics.io.deck import parse_deck
+from peridynamics.deck import parse_deck
 from peridynamics.runner import Simulation
 
 E = 70e9

@@ -26,7 +26,7 @@ from peridynamics.bodies.composite import (
 from peridynamics.bodies.rigid import RigidBody, RigidSystem
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.geometry.cloud import PointCloud
-from peridynamics.io import deck as dk
+from peridynamics import deck as dk
 
 if TYPE_CHECKING:
     from peridynamics.model import Model

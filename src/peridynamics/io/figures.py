@@ -17,8 +17,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from peridynamics.io import deck as dk
-from peridynamics.io.deck_output import Slice
+from peridynamics import deck as dk
+from peridynamics.io.options import Slice
 from peridynamics.io.observers import Observer, RunContext
 from peridynamics.io.plots import plot_damage, plot_histories, plt
 from peridynamics.state import State

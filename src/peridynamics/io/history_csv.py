@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from peridynamics.io import deck as dk
+from peridynamics import deck as dk
 
 BASE = (
     ("time_s", "time [s]"),

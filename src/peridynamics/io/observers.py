@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 
 from peridynamics.analysis.crack import branching, crack_tip, tip_speed
 from peridynamics.analysis.waves import dominant_period, pulse_comparison
-from peridynamics.io import deck as dk
+from peridynamics import deck as dk
 from peridynamics.io.checkpoint import write_checkpoint
 from peridynamics.solvers.base import StepResult
 from peridynamics.state import State

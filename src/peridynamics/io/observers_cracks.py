@@ -13,7 +13,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.analysis.crack_length import CrackMeter, attribute_to_polylines
-from peridynamics.io import deck as dk
+from peridynamics import deck as dk
 from peridynamics.io.observers import Observer, RunContext
 from peridynamics.solvers.base import StepResult
 from peridynamics.state import State

@@ -24,8 +24,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from peridynamics.io import deck as dk
-from peridynamics.io.deck_output import load_source
+from peridynamics import deck as dk
+from peridynamics.io.options import load_source
 from peridynamics.io.observers import Observer, RunContext
 from peridynamics.io.vtk import write_pvd, write_vtu
 from peridynamics.solvers.base import StepResult

@@ -7,7 +7,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from peridynamics.geometry import regions as rg
-from peridynamics.io.deck import RegionSpec
+from peridynamics.deck import RegionSpec
 
 
 class _Indices(rg.Region):

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from peridynamics.io import deck as dk
+from peridynamics import deck as dk
 from peridynamics.parallel.communicator import using
 from peridynamics.parallel.local import (
     decompose,

@@ -9,21 +9,20 @@ Bonds join points of one body only; ``interfaces`` bond two bodies with their ow
 stiffness and strength. ``rigid_bodies`` are platens, supports, indenters and strikers:
 analytic shapes or point sets that touch the deformable points through contact only.
 
-The schemas refer to sections defined in :mod:`peridynamics.io.deck` (regions,
-geometries, materials, damage, time functions), which resolves them after defining
-those.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Annotated, Any, Literal
+from typing import Annotated, Any, Literal
 
 from pydantic import Field, model_validator
 
-from peridynamics.io.deck_types import Finite, NonNegFloat, PosFloat, Strict
-
-if TYPE_CHECKING:  # resolved by peridynamics.io.deck (model_rebuild) once it defines them
-    from peridynamics.io.deck import AnyMaterial, Damage, Geometry, RegionSpec, TimeFunctionSpec
+from peridynamics.deck.damage import Damage
+from peridynamics.deck.geometry import Geometry, geometry_dim
+from peridynamics.deck.materials import AnyMaterial
+from peridynamics.deck.regions import RegionSpec, check_len, check_region
+from peridynamics.deck.time_functions import TimeFunctionSpec
+from peridynamics.deck.types import Errors, Finite, NonNegFloat, PosFloat, Strict
 
 Name = Annotated[str, Field(min_length=1, max_length=60, pattern=r"^[A-Za-z][A-Za-z0-9_]*$")]
 
@@ -191,11 +190,10 @@ class RigidBodySpec(Strict):
         return self
 
 
-def bodies_errors(deck: Any, check_len: Any, check_region: Any) -> list[tuple[str, str]]:
+def bodies_errors(deck: Any) -> Errors:
     """Cross-section checks of ``bodies``, ``interfaces`` and ``rigid_bodies``: vector
-    lengths, unique names, known bodies (``check_len`` / ``check_region``: the deck
-    module's helpers)."""
-    errors: list[tuple[str, str]] = []
+    lengths, unique names, known bodies."""
+    errors: Errors = []
     dim = deck.dim
     names = ["main"]
     for k, b in enumerate(deck.bodies):
@@ -207,9 +205,9 @@ def bodies_errors(deck: Any, check_len: Any, check_region: Any) -> list[tuple[st
         names.append(b.name)
         if b.region is not None:
             check_region(errors, f"{path}.region", b.region, dim, set())
-        if b.geometry is not None and geometry_dim_of(b.geometry) != dim:
+        if b.geometry is not None and geometry_dim(b.geometry) != dim:
             errors.append(
-                (f"{path}.geometry", f"a {geometry_dim_of(b.geometry)}-D body in a {dim}-D deck")
+                (f"{path}.geometry", f"a {geometry_dim(b.geometry)}-D body in a {dim}-D deck")
             )
     for k, i in enumerate(deck.interfaces):
         for n in i.bodies:
@@ -226,9 +224,9 @@ def bodies_errors(deck: Any, check_len: Any, check_region: Any) -> list[tuple[st
         kind = shape.kind()
         spec = getattr(shape, kind)
         if kind == "points":
-            if geometry_dim_of(spec) != dim:
+            if geometry_dim(spec) != dim:
                 errors.append(
-                    (f"{path}.shape.points", f"a {geometry_dim_of(spec)}-D body in a {dim}-D deck")
+                    (f"{path}.shape.points", f"a {geometry_dim(spec)}-D body in a {dim}-D deck")
                 )
             continue
         for key in ("point", "normal", "min", "max", "center"):
@@ -245,13 +243,6 @@ def bodies_errors(deck: Any, check_len: Any, check_region: Any) -> list[tuple[st
     if deck.rigid_bodies and dim == 1:
         errors.append(("rigid_bodies", "rigid bodies need a 2-D or 3-D model"))
     return errors
-
-
-def geometry_dim_of(g: Any) -> int:
-    """Dimension of a geometry section."""
-    from peridynamics.io.deck import geometry_dim
-
-    return geometry_dim(g)
 
 
 __all__ = [

@@ -1,15 +1,37 @@
-"""Deck section ``output``: what a run writes (histories, probes, derived probes, crack
-tracking, frames at chosen times and events, figures). See ``docs/deck.md``, section
-"output", and ``docs/output.md`` for the files.
+"""Output options: plain pydantic models of what a run writes (histories, probes,
+derived probes, crack tracking, frames at chosen times and events, figures).
+
+The deck's section ``output`` is the model :class:`Output` (``docs/deck.md``, section
+"output"; ``docs/output.md`` for the files); observers and writers read these options
+and know no deck. The strict base model and the number types defined here are shared
+with the deck's schemas (:mod:`peridynamics.deck.types`).
 """
 
 from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-from pydantic import Field, PlainValidator, model_validator
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, PlainValidator, model_validator
 
-from peridynamics.io.deck_types import Finite, NonNegFloat, PosFloat, Strict, _Num
+
+def _not_bool(v: Any) -> Any:
+    if isinstance(v, bool):
+        raise ValueError("a number is expected, not true/false")
+    return v
+
+
+#: refuses true/false where a number is expected (YAML reads ``yes`` as a bool)
+Num = BeforeValidator(_not_bool)
+PosFloat = Annotated[float, Field(gt=0, allow_inf_nan=False), Num]
+NonNegFloat = Annotated[float, Field(ge=0, allow_inf_nan=False), Num]
+Finite = Annotated[float, Field(allow_inf_nan=False), Num]
+
+
+class Strict(BaseModel):
+    """Base: unknown keys are errors; values are immutable."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
 
 Quantity = Literal[
     "displacement",
@@ -87,7 +109,7 @@ class CrackTip(Strict):
 
     origin: list[Finite]
     direction: list[Finite] | None = None
-    damage_threshold: Annotated[float, Field(gt=0, lt=1), _Num] = 0.35
+    damage_threshold: Annotated[float, Field(gt=0, lt=1), Num] = 0.35
 
 
 class CrackPathSpec(Strict):
@@ -97,7 +119,7 @@ class CrackPathSpec(Strict):
     seed: list[Finite]
     direction: list[Finite] = [1.0, 0.0]
     within: str | None = None
-    damage_threshold: Annotated[float, Field(gt=0, lt=1), _Num] = 0.35
+    damage_threshold: Annotated[float, Field(gt=0, lt=1), Num] = 0.35
     initial_length: PosFloat | None = None
 
 
@@ -105,7 +127,7 @@ class Fracture(Strict):
     """Fracture detection: the first time any point's damage reaches ``damage_threshold``
     (Lu & Wang (2016): phi0 = 0.3), checked after every step in which bonds break."""
 
-    damage_threshold: Annotated[float, Field(gt=0, le=1), _Num] = 0.3
+    damage_threshold: Annotated[float, Field(gt=0, le=1), Num] = 0.3
     stop: bool = False
 
 
@@ -135,7 +157,7 @@ class StressStrain(Strict):
     area: PosFloat
     length: PosFloat
     zero_at: Literal["start", "first_contact"] = "start"
-    contact_fraction: Annotated[float, Field(gt=0, lt=1), _Num] = 0.01
+    contact_fraction: Annotated[float, Field(gt=0, lt=1), Num] = 0.01
 
     @model_validator(mode="after")
     def _source(self) -> StressStrain:
@@ -173,7 +195,7 @@ class Output(Strict):
     ``frame_precision`` with ``frame_compression``; histories (also as ``history.csv``),
     probes, crack tracking; the figures ``plot`` (one kind or a list)."""
 
-    vtk_every: Annotated[int, Field(ge=0), _Num] = 0
+    vtk_every: Annotated[int, Field(ge=0), Num] = 0
     frames_at: list[NonNegFloat] = []  # s: a frame at the first step at or after each
     frames_on: list[EventName] = []  # events: a frame when each happens
     frame_precision: Literal["float32", "float64"] = "float32"
@@ -183,7 +205,7 @@ class Output(Strict):
     slices: list[Slice] = []  # 3-D figures: default the three mid-planes
     load_probe: str | None = None  # the load of the peak_load event
     history_csv: bool = True  # history.csv beside summary.json
-    history_every: Annotated[int, Field(gt=0), _Num] | None = None
+    history_every: Annotated[int, Field(gt=0), Num] | None = None
     fields: list[
         Literal["displacement", "velocity", "damage", "force_density", "rotation", "moment"]
     ] = ["displacement", "velocity", "damage", "force_density", "rotation", "moment"]
@@ -197,58 +219,6 @@ class Output(Strict):
     plot: PlotChoice = "auto"
     bonds: bool = True  # write bonds.npz: the bond list (pairs, lengths, final status)
     crack_length: bool = True  # results.crack_length_m / crack_area_m2 from broken bonds
-
-
-def output_errors(out: Output, dim: int, sets: set[str], rigid: set[str]) -> list[tuple[str, str]]:
-    """Cross-checks of the output section against the rest of the deck (``sets``: node
-    set names, ``rigid``: rigid body names): (key path, message) pairs."""
-    errors: list[tuple[str, str]] = []
-    seen: list[str] = []
-    for n, p in enumerate(out.probes):
-        for name in p.of or []:
-            if name not in seen:
-                errors.append(
-                    (
-                        f"output.probes.{n}.of",
-                        f"{name!r} is not a probe listed before {p.name!r}; a derived "
-                        f"probe combines earlier probes (listed before it: {seen})",
-                    )
-                )
-        if p.body is not None and p.body not in rigid:
-            errors.append(
-                (
-                    f"output.probes.{n}.body",
-                    f"unknown rigid body {p.body!r}; known: {sorted(rigid)}",
-                )
-            )
-        seen.append(p.name)
-    ss = out.stress_strain
-    if ss is not None and ss.body is not None and ss.body not in rigid:
-        errors.append(
-            ("output.stress_strain.body", f"unknown rigid body {ss.body!r}; known: {sorted(rigid)}")
-        )
-    if ss is not None and ss.set is not None and ss.set not in sets:
-        errors.append(("output.stress_strain.set", f"unknown node set {ss.set!r}"))
-    if out.load_probe is not None and out.load_probe not in seen:
-        errors.append(("output.load_probe", f"unknown probe {out.load_probe!r}; known: {seen}"))
-    if "peak_load" in out.frames_on and load_source(out) is None:
-        errors.append(
-            (
-                "output.frames_on",
-                "peak_load needs a load: output.load_probe (a probe name), "
-                "output.stress_strain or a reaction_force probe",
-            )
-        )
-    if out.slices and dim != 3:
-        errors.append(("output.slices", "slices are planes through a 3-D model; remove them"))
-    kinds = [out.plot] if isinstance(out.plot, str) else list(out.plot)
-    if "stress_strain" in kinds and ss is None:
-        errors.append(("output.plot", "stress_strain needs an output.stress_strain section"))
-    if dim == 1 and out.png_frames:
-        errors.append(("output.png_frames", "PNG frames are 2-D/3-D figures; remove it in 1-D"))
-    if dim == 1 and "deformed" in kinds:
-        errors.append(("output.plot", "deformed is a 2-D/3-D figure; use probes or damage"))
-    return errors
 
 
 def load_source(out: Output) -> str | None:

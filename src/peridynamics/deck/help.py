@@ -6,18 +6,19 @@ wheel carries them as ``peridynamics/_docs/``) are the pages of the documentatio
 ``peridynamics help deck.material`` prints the section *material* of the deck reference
 followed by the keys of the schema of this version; ``help deck.solver.adr`` one
 subsection; ``help output.summary_json`` a section of the output page. Error messages
-name these topics (:func:`hint`).
+name these topics (:func:`hint`). The keys of the schema are listed by
+:mod:`peridynamics.deck.reference`.
 """
 
 from __future__ import annotations
 
 import functools
-import json
 import re
-import typing
 from collections.abc import Iterable
 from pathlib import Path
-from typing import Any
+
+from peridynamics.deck.reference import deck_reference
+from peridynamics.deck.schema import Deck
 
 #: help topic -> page of the site
 PAGES = {"deck": "deck.md", "output": "output.md"}
@@ -132,8 +133,6 @@ def help_text(topic: str) -> str:
     page, *parts = topic.split(".")
     out = [body.rstrip()]
     if page == "deck" and len(parts) == 1:
-        from peridynamics.io.deck import Deck
-
         heading = slug(body.splitlines()[0].removeprefix("## "))
         keys = [k for k in Deck.model_fields if _KEY_HEADING.get(k, k) == heading]
         if keys:
@@ -157,101 +156,3 @@ def hint(paths: Iterable[str]) -> str:
         return ""
     more = f" (likewise deck.{', deck.'.join(shown[1:])})" if len(shown) > 1 else ""
     return f"help: peridynamics help deck.{shown[0]}{more}"
-
-
-# ---------------------------------------------------------------- keys from the schema
-def _type_name(ann: Any) -> str:
-    from pydantic import BaseModel
-
-    origin, args = typing.get_origin(ann), typing.get_args(ann)
-    if origin is typing.Annotated:
-        return _type_name(args[0])
-    if origin is typing.Literal:
-        return " | ".join(str(a).lower() if isinstance(a, bool) else str(a) for a in args)
-    if origin in (typing.Union, getattr(__import__("types"), "UnionType", None)):
-        names = [_type_name(a) for a in args if a is not type(None)]
-        return " or ".join(dict.fromkeys(names))
-    if origin in (list, tuple):
-        inner = [a for a in args if a is not Ellipsis]
-        if origin is tuple and len(inner) > 1:
-            return f"[{', '.join(_type_name(a) for a in inner)}]"
-        return f"list of {_type_name(inner[0])}" if inner else "list"
-    if origin is dict:
-        return f"mapping of name -> {_type_name(args[1])}"
-    if isinstance(ann, type) and issubclass(ann, BaseModel):
-        return "mapping"
-    return {float: "number", int: "integer", str: "string", bool: "true/false"}.get(
-        ann, getattr(ann, "__name__", str(ann))
-    )
-
-
-def _first_sentence(doc: str) -> str:
-    """The first sentence of a docstring's first paragraph, on one line."""
-    para = " ".join(doc.strip().split("\n\n")[0].split())
-    m = re.search(r"(?<!e\.g)(?<!i\.e)\.(\s|$)", para)
-    return para[: m.start() + 1] if m else para
-
-
-def _sub_models(ann: Any) -> list[Any]:
-    from pydantic import BaseModel
-
-    if isinstance(ann, type) and issubclass(ann, BaseModel):
-        return [ann]
-    out: list[Any] = []
-    for a in typing.get_args(ann):
-        for m in _sub_models(a):
-            if m not in out:
-                out.append(m)
-    return out
-
-
-def deck_reference(section: str | None = None) -> str:
-    """The keys a deck accepts, from the schema itself (what ``peridynamics help deck``
-    prints): for each key its type and default, nested sections indented, one block per
-    ``type`` / ``model`` where a section has several kinds."""
-    from pydantic_core import PydanticUndefined
-
-    from peridynamics.io.deck import Deck
-
-    lines: list[str] = []
-    shown: dict[Any, str] = {}  # section model -> the key path where its keys are listed
-
-    def walk(model: Any, indent: str, where: str) -> None:
-        for name, f in model.model_fields.items():
-            key = f.alias or name
-            path = f"{where}.{key}" if where else key
-            if f.is_required():
-                default = "required"
-            elif f.default is PydanticUndefined or f.default is None:
-                default = "optional"
-            else:
-                d = f.default
-                d = d.model_dump(mode="json") if hasattr(d, "model_dump") else d
-                default = f"default {json.dumps(d)}"
-            lines.append(f"{indent}{key}: {_type_name(f.annotation)} ({default})")
-            subs = _sub_models(f.annotation)
-            if subs and all(sub in shown for sub in subs):
-                lines.append(f"{indent}  (the keys listed under {shown[subs[0]]})")
-                continue
-            for sub in subs:
-                doc = _first_sentence(sub.__doc__ or sub.__name__)
-                pad = indent + ("    " if len(subs) > 1 else "  ")
-                if len(subs) > 1:
-                    lines.append(f"{indent}  - {doc}")
-                if sub in shown:
-                    lines.append(f"{pad}(the keys listed under {shown[sub]})")
-                    continue
-                shown[sub] = path
-                walk(sub, pad, path)
-
-    fields = Deck.model_fields
-    if section is not None:
-        if section not in fields:
-            raise KeyError(section)
-        fields = {section: fields[section]}
-
-    class One:
-        model_fields = fields
-
-    walk(One, "", "")
-    return "\n".join(lines)

@@ -1,0 +1,1 @@
+"""Application: sweeps, ensembles and the benchmark, on top of the build layer."""
