@@ -5,7 +5,7 @@ Run from the repository root::
     python benchmarks/bond_bytes.py                  # 1-D 1e6, 2-D 1000^2, 3-D 60^3
     python benchmarks/bond_bytes.py --cases 3:100 --json out.json
 
-Builds the model of ``peridynamics bench`` (:func:`peridynamics.bench._model`), an
+Builds the model of ``peridynamics bench`` (:func:`peridynamics.app.bench._model`), an
 ``ExplicitSolver`` and its state, takes two steps, then walks the objects reachable from
 the solver (attributes, dataclass fields, dicts, lists, tuples) and lists every NumPy
 array with one entry per directed bond (first axis = number of bonds), each memory
@@ -79,7 +79,7 @@ def measure(dim: int, n_side: int) -> dict:
     import numpy as np
     from _load import peak_rss_gib
 
-    from peridynamics.bench import _model
+    from peridynamics.app.bench import _model
     from peridynamics.solvers import ExplicitSolver
 
     t0 = time.perf_counter()

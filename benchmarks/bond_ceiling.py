@@ -42,7 +42,7 @@ In the same rounds it times the package: ``pkg step`` is ``ExplicitSolver.run`` 
 ``peridynamics bench`` times: bond forces with the breaking pass + velocity Verlet +
 the periodic check) and ``pkg force`` is the PMB force kernel alone
 (``PMBForceModel.force``, a pass with no bond breaking). The lattice, horizon (3.015 dx)
-and material are those of ``peridynamics bench`` (:func:`peridynamics.bench._model`).
+and material are those of ``peridynamics bench`` (:func:`peridynamics.app.bench._model`).
 Rounds interleave all kernels so that a change of load hits them alike; a window in
 which other processes used more than 0.25 cores is timed again (see ``--quiet-wait``).
 
@@ -493,7 +493,7 @@ def run_case(
     dim: int, n_side: int, rounds: int, steps: int, passes: int, quiet: tuple[float, float]
 ) -> dict:
     """Time the package and every ceiling variant on one lattice, interleaved."""
-    from peridynamics.bench import _model
+    from peridynamics.app.bench import _model
     from peridynamics.kernels import bond_based
     from peridynamics.solvers import ExplicitSolver
 

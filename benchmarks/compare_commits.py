@@ -5,7 +5,8 @@ Usage::
     python benchmarks/compare_commits.py OLD_SRC NEW_SRC [--dims 2 3] [--rounds 3]
         [--size default] [--steps 20]
 
-Each round runs ``peridynamics.bench.run_case`` for every dimension in a fresh process,
+Each round runs ``peridynamics.app.bench.run_case`` (``peridynamics.bench`` in trees
+before the ``app`` package) for every dimension in a fresh process,
 first with ``PYTHONPATH=OLD_SRC`` then with ``NEW_SRC`` (alternating, so slow drifts of
 the machine hit both), and prints the best seconds per step of each tree and the speed
 ratio new/old (> 1: the new tree is faster).
@@ -20,7 +21,9 @@ import sys
 from pathlib import Path
 
 _SNIPPET = (
-    "import json, sys; from peridynamics.bench import CASES, run_case; "
+    "import json, sys, importlib.util as u; "
+    "b = 'peridynamics.app.bench' if u.find_spec('peridynamics.app') else 'peridynamics.bench'; "
+    "m = __import__(b, fromlist=['run_case']); CASES, run_case = m.CASES, m.run_case; "
     "d = int(sys.argv[1]); r = run_case(d, CASES[sys.argv[2]][d], steps=int(sys.argv[3])); "
     "print(json.dumps(r.as_dict()))"
 )

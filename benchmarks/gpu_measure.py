@@ -35,10 +35,10 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def _model(dim: int, n_side: int) -> Any:
-    """The package benchmark's body (:func:`peridynamics.bench._model`) with
+    """The package benchmark's body (:func:`peridynamics.app.bench._model`) with
     critical-stretch damage (nothing breaks in the few steps timed: the kernels still
     test every bond)."""
-    from peridynamics.bench import _model as bench_model
+    from peridynamics.app.bench import _model as bench_model
     from peridynamics.damage.critical_stretch import CriticalStretch
 
     return bench_model(dim, n_side, CriticalStretch(critical_stretch=0.01))

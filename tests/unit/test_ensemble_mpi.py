@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from peridynamics.ensemble import assign
+from peridynamics.app.ensemble import assign
 from tests.helpers import EXAMPLES, cli, mpiexec
 
 DECK = EXAMPLES / "rock_compression" / "flaw30_m2.yaml"

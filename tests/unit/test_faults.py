@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 import yaml
 
-from peridynamics import cli as cli_mod
+from peridynamics.app import checks as cli_mod
 from peridynamics.cli import main
 from peridynamics.io.checkpoint import CHECKPOINT_NAME, read_checkpoint, read_checkpoint_meta
 from peridynamics.build.estimates import estimate_size, estimate_steps
@@ -231,7 +231,7 @@ def test_zero_or_non_finite_time_step_is_refused() -> None:
         sim = SimpleNamespace(
             solver=solver, model=SimpleNamespace(bonds=SimpleNamespace(n_bonds=1))
         )
-        problem = cli_mod._built_problem(sim, allow_large=False)
+        problem = cli_mod.built_problem(sim, allow_large=False)
         assert problem is not None and problem.startswith("material.youngs_modulus")
 
 

@@ -14,9 +14,9 @@ from pathlib import Path
 import pytest
 
 from peridynamics.cli import main
-from peridynamics.sweep import assign
-from peridynamics.sweep_cases import Case, build_cases, split_values
-from peridynamics.sweep_report import flatten_scalars
+from peridynamics.app.sweep import assign
+from peridynamics.app.sweep_cases import Case, build_cases, split_values
+from peridynamics.app.sweep_report import flatten_scalars
 from tests.helpers import cli, mpiexec
 
 DECK = """\

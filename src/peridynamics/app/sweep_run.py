@@ -22,20 +22,17 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Any
 
-from peridynamics.sweep_cases import Case
-from peridynamics.sweep_report import flatten_scalars, write_json
+from peridynamics.app.checks import err
+from peridynamics.app.exit_codes import EXIT_INVALID
+from peridynamics.app.sweep_cases import Case
+from peridynamics.app.sweep_report import flatten_scalars, write_json
 
-EXIT_INVALID = 2
 #: lines of a case's run.log kept in sweep.json when it did not complete
 TAIL_LINES = 20
 #: environment variables of an MPI launch that a case's process must not inherit
 _MPI_ENV = ("PMI_", "PMIX_", "OMPI_COMM_WORLD_", "OMPI_UNIVERSE_", "HYDI_", "MPI_LOCAL")
 _THREAD_VARS = ("NUMBA_NUM_THREADS", "OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
 _POLL_S = 0.05
-
-
-def _err(msg: str) -> None:
-    print(msg, file=sys.stderr, flush=True)
 
 
 # ------------------------------------------------------------------- one case's run
@@ -187,7 +184,7 @@ def record(
     case
         The case.
     status
-        One of :data:`peridynamics.sweep_report.STATUSES`.
+        One of :data:`peridynamics.app.sweep_report.STATUSES`.
     code
         Exit code of its process (negative: killed by that signal; ``None``: not run).
     wall
@@ -264,7 +261,7 @@ def _stop(running: dict[int, Running], plan: Plan) -> dict[int, int]:
     """Ctrl-C: SIGINT to each case once (it stops after its step and writes its outputs
     and checkpoint), wait; a second Ctrl-C kills them. Returns index -> exit code."""
     if running and not plan.quiet:
-        _err(f"{plan.prefix}interrupted: stopping {len(running)} running case(s) (they write "
+        err(f"{plan.prefix}interrupted: stopping {len(running)} running case(s) (they write "
              "their outputs; Ctrl-C again to kill them)")  # fmt: skip
     for r in running.values():
         with contextlib.suppress(ProcessLookupError):

@@ -327,18 +327,19 @@ def validate(deck_path: str, sets: list[str], cases: list[Case], allow_large: bo
     """Validate every case (deck + ``--set`` + its overrides) and its size, fill in each
     case's fingerprint, cost (estimated bond updates) and deck name. Returns ``None`` or
     the message that names the invalid cases and their keys (nothing has run)."""
-    from peridynamics.cli import _size_problem, _work_problem
-    from peridynamics.deck import DeckError, estimate_size, estimate_steps, load_deck
+    from peridynamics.app.checks import size_problem, work_problem
+    from peridynamics.build.estimates import estimate_size, estimate_steps
+    from peridynamics.deck import DeckError, load_deck
 
     bad: dict[str, list[Case]] = {}
     for case in cases:
         try:
             deck = load_deck(deck_path, [*sets, *case.set_args])
-            problem = _size_problem(deck, allow_large)
+            problem = size_problem(deck, allow_large)
             est = estimate_size(deck)
             steps = estimate_steps(deck)
             if problem is None and est is not None:
-                problem = _work_problem(steps, est.bonds, allow_large, True)
+                problem = work_problem(steps, est.bonds, allow_large, True)
             if problem is None:
                 case.fingerprint = fingerprint(deck)
         except DeckError as exc:

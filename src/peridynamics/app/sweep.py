@@ -13,16 +13,13 @@ from __future__ import annotations
 
 import argparse
 import shlex
-import sys
 from pathlib import Path
 from typing import Any
 
-from peridynamics.parallel.launch import LaunchError
-from peridynamics.parallel.launch import mpi_comm as _mpi_comm
-from peridynamics.parallel.launch import node_ranks as _node_ranks
-from peridynamics.parallel.launch import threads_per_process as _threads
-from peridynamics.sweep_cases import Case, SweepError, build_cases, validate
-from peridynamics.sweep_report import (
+from peridynamics.app.checks import err
+from peridynamics.app.exit_codes import EXIT_CASES_FAILED, EXIT_INTERRUPTED, EXIT_INVALID, EXIT_OK
+from peridynamics.app.sweep_cases import Case, SweepError, build_cases, validate
+from peridynamics.app.sweep_report import (
     counts,
     format_table,
     plot_columns,
@@ -30,13 +27,11 @@ from peridynamics.sweep_report import (
     write_csv,
     write_json,
 )
-from peridynamics.sweep_run import Plan, child_env, death_signal, record, run_cases
-
-EXIT_OK, EXIT_INVALID, EXIT_CASES_FAILED, EXIT_INTERRUPTED = 0, 2, 4, 130
-
-
-def _err(msg: str) -> None:
-    print(msg, file=sys.stderr, flush=True)
+from peridynamics.app.sweep_run import Plan, child_env, death_signal, record, run_cases
+from peridynamics.parallel.launch import LaunchError
+from peridynamics.parallel.launch import mpi_comm as _mpi_comm
+from peridynamics.parallel.launch import node_ranks as _node_ranks
+from peridynamics.parallel.launch import threads_per_process as _threads
 
 
 def assign(cases: list[Case], n_ranks: int) -> list[list[Case]]:
@@ -89,7 +84,7 @@ def _report(
     requested = [c.strip() for c in args.plot.split(",")] if args.plot else None
     cols, missing = plot_columns(rows, requested)
     if missing:
-        _err(f"--plot: no completed case has a value for {', '.join(missing)}; the columns "
+        err(f"--plot: no completed case has a value for {', '.join(missing)}; the columns "
              "are the header of sweep.csv")  # fmt: skip
     title = f"{cases[0].deck_name}: sweep of {len(cases)} cases"
     drawn = plot_sweep(plan.out / "sweep.png", rows, keys, cols, title)
@@ -103,11 +98,11 @@ def _exit_code(records: list[dict[str, Any]], interrupted: bool) -> int:
     n = counts(records)
     bad = n.get("failed", 0) + n.get("unstable", 0)
     if interrupted:
-        _err(f"sweep interrupted: {n.get('completed', 0) + n.get('skipped-done', 0)} of "
+        err(f"sweep interrupted: {n.get('completed', 0) + n.get('skipped-done', 0)} of "
              f"{len(records)} case(s) done; run the same command again to continue")  # fmt: skip
         return EXIT_INTERRUPTED
     if bad:
-        _err(f"sweep: {bad} of {len(records)} case(s) did not complete ("
+        err(f"sweep: {bad} of {len(records)} case(s) did not complete ("
              + ", ".join(f"{n[s]} {s}" for s in ("failed", "unstable") if s in n)
              + "); see sweep.csv and each case's run.log")  # fmt: skip
         return EXIT_CASES_FAILED
@@ -173,11 +168,11 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         problem = next((p for p in comm.allgather(problem) if p), None)
     if problem:
         if rank == 0:
-            _err(problem)
+            err(problem)
         return EXIT_INVALID
     out = Path(args.out or Path("results") / f"{cases[0].deck_name}_sweep").resolve()
     if out.exists() and not out.is_dir():
-        _err(f"--out: {str(out)!r} exists and is not a folder")
+        err(f"--out: {str(out)!r} exists and is not a folder")
         return EXIT_INVALID
     threads = _threads(args.jobs, _node_ranks(comm))
     plan = Plan(

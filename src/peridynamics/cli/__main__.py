@@ -1,0 +1,7 @@
+"""``python -m peridynamics.cli`` = the ``peridynamics`` command."""
+
+import sys
+
+from peridynamics.cli import main
+
+sys.exit(main())

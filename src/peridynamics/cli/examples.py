@@ -1,0 +1,88 @@
+"""``peridynamics examples``: list the shipped examples, or copy one (its whole
+folder)."""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+from pathlib import Path
+from typing import Any
+
+from peridynamics.app.checks import err
+from peridynamics.app.exit_codes import EXIT_INVALID, EXIT_OK
+
+
+def examples_dir() -> Path:
+    """Folder holding the example decks (installed copy first, then the source tree)."""
+    here = Path(__file__).resolve().parents[1]  # the package
+    for cand in (here / "_examples", here.parents[1] / "examples"):
+        if cand.is_dir():
+            return cand
+    raise FileNotFoundError("the example decks are not installed")
+
+
+def list_examples() -> dict[str, Path]:
+    """Map example name -> deck path (every ``*.yaml`` under the examples folder)."""
+    root = examples_dir()
+    out = {}
+    for p in sorted(root.rglob("*.yaml")):
+        rel = p.relative_to(root)
+        name = rel.parent.as_posix() if p.stem == "deck" else rel.with_suffix("").as_posix()
+        out[name] = p
+    for folder in sorted(d for d in root.iterdir() if d.is_dir()):
+        scripts = sorted(folder.glob("*.py"))
+        if scripts and not any(folder.glob("*.yaml")):  # a script example (figures, ...)
+            out[folder.name] = scripts[0]
+    return dict(sorted(out.items()))
+
+
+def cmd_examples(args: argparse.Namespace) -> int:
+    """List the examples or copy one to a folder."""
+    ex = list_examples()
+    if args.action == "list" or args.action is None:
+        for name, path in ex.items():
+            print(f"{name:40s} {path}")
+        return EXIT_OK
+    if not args.name:
+        err(
+            "examples copy: give the NAME of an example (and a DEST folder), e.g. "
+            f"peridynamics examples copy bar_wave_1d mine/; known: {', '.join(ex)}"
+        )
+        return EXIT_INVALID
+    if args.name not in ex:
+        err(f"unknown example {args.name!r}; known: {', '.join(ex)}")
+        return EXIT_INVALID
+    src = ex[args.name]
+    dest = Path(args.dest or ".")
+    dest.mkdir(parents=True, exist_ok=True)
+    # an example is its folder (decks, mesh files, scripts, README): copy all of it;
+    # only a deck lying at the top of the examples tree is copied alone
+    whole_folder = src.parent != examples_dir()
+    target = dest / (src.parent.name if whole_folder else src.name)
+    if target.exists() and not args.force:
+        err(f"{str(target)!r} exists; not overwriting your copy (use --force to replace it)")
+        return EXIT_INVALID
+    if whole_folder:
+        shutil.copytree(src.parent, target, dirs_exist_ok=True)
+        if src.stem == "deck" or src.suffix == ".py":
+            print(f"copied {args.name} to {target}")
+        else:  # one deck of a folder of decks
+            print(
+                f"copied {args.name} with its folder to {target}; the deck is {target / src.name}"
+            )
+    else:
+        shutil.copy2(src, target)
+        print(f"copied {args.name} to {target}")
+    return EXIT_OK
+
+
+def register(sub: Any) -> None:
+    """The parser of ``examples``."""
+    e = sub.add_parser(
+        "examples", help="list the examples, or copy one (its whole folder): examples copy NAME DIR"
+    )
+    e.add_argument("action", nargs="?", choices=["list", "copy"], default="list")
+    e.add_argument("name", nargs="?")
+    e.add_argument("dest", nargs="?")
+    e.add_argument("--force", action="store_true", help="replace an existing copy")
+    e.set_defaults(func=cmd_examples)
