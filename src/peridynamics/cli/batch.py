@@ -13,15 +13,15 @@ from peridynamics.cli.common import deck_args, large_arg
 def cmd_ensemble(args: argparse.Namespace) -> int:
     """Run N Weibull realisations of a deck (seeds seed0 .. seed0 + N - 1) and report the
     spread of the peak stress and of the damaged area (``ensemble.json``); under
-    ``mpiexec -n R`` the realisations are spread over the R ranks (``peridynamics.ensemble``)."""
-    from peridynamics.ensemble import cmd_ensemble as run_ensemble
+    ``mpiexec -n R`` the realisations are spread over the R ranks (``peridynamics.app.ensemble``)."""
+    from peridynamics.app.ensemble import cmd_ensemble as run_ensemble
 
     return run_ensemble(args)
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
-    """Run a deck over a grid or a list of parameter values (``peridynamics.sweep``)."""
-    from peridynamics.sweep import cmd_sweep as run_sweep
+    """Run a deck over a grid or a list of parameter values (``peridynamics.app.sweep``)."""
+    from peridynamics.app.sweep import cmd_sweep as run_sweep
 
     return run_sweep(args)
 

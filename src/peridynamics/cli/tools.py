@@ -17,7 +17,7 @@ from peridynamics.app.exit_codes import EXIT_INVALID, EXIT_OK
 
 def cmd_bench(args: argparse.Namespace) -> int:
     """Run the kernel benchmark."""
-    from peridynamics.bench import run_benchmarks
+    from peridynamics.app.bench import run_benchmarks
 
     try:
         dims = tuple(int(d) for d in args.dims.split(","))
