@@ -13,7 +13,8 @@ from peridynamics.cli.common import deck_args, large_arg
 def cmd_ensemble(args: argparse.Namespace) -> int:
     """Run N Weibull realisations of a deck (seeds seed0 .. seed0 + N - 1) and report the
     spread of the peak stress and of the damaged area (``ensemble.json``); under
-    ``mpiexec -n R`` the realisations are spread over the R ranks (``peridynamics.app.ensemble``)."""
+    ``mpiexec -n R`` the realisations are spread over the R ranks
+    (``peridynamics.app.ensemble``)."""
     from peridynamics.app.ensemble import cmd_ensemble as run_ensemble
 
     return run_ensemble(args)
