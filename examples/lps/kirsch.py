@@ -64,8 +64,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds
-from peridynamics.geometry.cloud import PointCloud
 from peridynamics.deck import Deck, load_deck
+from peridynamics.geometry.cloud import PointCloud
 from peridynamics.runner import Simulation, build_bonds_for, build_cloud
 
 HERE = Path(__file__).resolve().parent

@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from peridynamics import deck as dk
 from peridynamics.bodies.from_deck import (
     body_layout,
     build_bodies_model,
@@ -39,7 +40,6 @@ from peridynamics.geometry import (
     from_mesh,
     rectangle,
 )
-from peridynamics import deck as dk
 from peridynamics.io.regions import to_region
 from peridynamics.loading import conditions as bc
 from peridynamics.loading import time_functions as tf

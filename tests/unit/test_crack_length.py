@@ -19,9 +19,9 @@ from peridynamics.analysis.crack_length import (
 )
 from peridynamics.bonds.bonds import Bonds, build_bonds
 from peridynamics.bonds.precrack import RectangleCrack, SegmentCrack, crossing_bonds
+from peridynamics.deck import parse_deck
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.geometry.generators import box, rectangle
-from peridynamics.deck import parse_deck
 from peridynamics.io.observers_cracks import CrackThresholdWarning, ridge_mask, threshold_check
 from peridynamics.runner import Simulation
 

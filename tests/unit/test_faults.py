@@ -22,10 +22,10 @@ import pytest
 import yaml
 
 from peridynamics.app import checks as cli_mod
-from peridynamics.cli import main
-from peridynamics.io.checkpoint import CHECKPOINT_NAME, read_checkpoint, read_checkpoint_meta
 from peridynamics.build.estimates import estimate_size, estimate_steps
+from peridynamics.cli import main
 from peridynamics.deck import DeckError, load_deck, yaml_load
+from peridynamics.io.checkpoint import CHECKPOINT_NAME, read_checkpoint, read_checkpoint_meta
 from peridynamics.runner import RunInterrupted, SetupError, Simulation
 from tests.helpers import EXAMPLES, ROOT
 

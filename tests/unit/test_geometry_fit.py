@@ -16,6 +16,7 @@ import pytest
 
 from peridynamics.bonds import build_bonds
 from peridynamics.bonds.precrack import crossing_bonds
+from peridynamics.deck import DeckError, parse_deck
 from peridynamics.geometry import (
     GeometryFitWarning,
     Notch,
@@ -27,7 +28,6 @@ from peridynamics.geometry import (
 )
 from peridynamics.geometry.generators import fit_cells
 from peridynamics.geometry.regions import Ball
-from peridynamics.deck import DeckError, parse_deck
 from peridynamics.runner import SetupError, Simulation, build_cloud, build_conditions
 
 DX = 1.0e-3

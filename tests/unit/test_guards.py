@@ -11,8 +11,8 @@ import yaml
 
 from peridynamics.analysis.crack import branching, crack_tip
 from peridynamics.bonds import make_crack
-from peridynamics.geometry import NearestPoint, rectangle
 from peridynamics.deck import DeckError, load_deck, parse_deck
+from peridynamics.geometry import NearestPoint, rectangle
 from peridynamics.loading import traction_as_body_force
 from peridynamics.runner import SetupError, build_cloud, build_conditions
 from tests.helpers import EXAMPLES, cli

@@ -21,9 +21,9 @@ from scipy.spatial import ConvexHull, Voronoi
 from peridynamics import BondBasedMaterial, Model, build_bonds
 from peridynamics.analysis.anisotropy import damage_anisotropy
 from peridynamics.bonds.surface import energy_correction_factors, moment_correction_factors
+from peridynamics.deck import DeckError, parse_deck
 from peridynamics.geometry import Ball, box, cylinder, rectangle
 from peridynamics.geometry.generators import voronoi_volumes
-from peridynamics.deck import DeckError, parse_deck
 from peridynamics.runner import SetupError, build_cloud
 
 DX = 1e-3

@@ -26,8 +26,8 @@ from peridynamics.analysis.beams import timoshenko_goodier_tip_deflection
 from peridynamics.bonds.bonds import build_bonds
 from peridynamics.bonds.precrack import make_crack
 from peridynamics.damage.critical_stretch import CriticalStretch
-from peridynamics.geometry.generators import rectangle
 from peridynamics.deck import DeckError, parse_deck
+from peridynamics.geometry.generators import rectangle
 from peridynamics.loading.conditions import BodyForce, Fixed, PrescribedDisplacement
 from peridynamics.materials.bond_based import BondBasedMaterial
 from peridynamics.materials.lps import LPSMaterial

@@ -13,10 +13,10 @@ from pathlib import Path
 
 import pytest
 
-from peridynamics.cli import main
 from peridynamics.app.sweep import assign
 from peridynamics.app.sweep_cases import Case, build_cases, split_values
 from peridynamics.app.sweep_report import flatten_scalars
+from peridynamics.cli import main
 from tests.helpers import cli, mpiexec
 
 DECK = """\

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from peridynamics import deck as dk
 from peridynamics.bodies.build import BodyLayout, assemble_points, build_interfaces, split_bonds
 from peridynamics.bodies.composite import (
     BodiesDamage,
@@ -26,7 +27,6 @@ from peridynamics.bodies.composite import (
 from peridynamics.bodies.rigid import RigidBody, RigidSystem
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.geometry.cloud import PointCloud
-from peridynamics import deck as dk
 
 if TYPE_CHECKING:
     from peridynamics.model import Model

@@ -18,8 +18,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics import deck as dk
-from peridynamics.io.options import Slice
 from peridynamics.io.observers import Observer, RunContext
+from peridynamics.io.options import Slice
 from peridynamics.io.plots import plot_damage, plot_histories, plt
 from peridynamics.state import State
 

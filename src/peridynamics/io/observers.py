@@ -18,9 +18,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from peridynamics import deck as dk
 from peridynamics.analysis.crack import branching, crack_tip, tip_speed
 from peridynamics.analysis.waves import dominant_period, pulse_comparison
-from peridynamics import deck as dk
 from peridynamics.io.checkpoint import write_checkpoint
 from peridynamics.solvers.base import StepResult
 from peridynamics.state import State

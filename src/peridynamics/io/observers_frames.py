@@ -25,8 +25,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics import deck as dk
-from peridynamics.io.options import load_source
 from peridynamics.io.observers import Observer, RunContext
+from peridynamics.io.options import load_source
 from peridynamics.io.vtk import write_pvd, write_vtu
 from peridynamics.solvers.base import StepResult
 from peridynamics.state import State

@@ -6,8 +6,8 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from peridynamics.geometry import regions as rg
 from peridynamics.deck import RegionSpec
+from peridynamics.geometry import regions as rg
 
 
 class _Indices(rg.Region):
