@@ -2,9 +2,9 @@
 correspondence), the registry of families (:data:`MATERIAL_SCHEMAS`), and each
 family's compatibility checks against the rest of the deck (its ``deck_errors``).
 
-A family's schema declares the capabilities that other sections' checks ask:
-``tension_softening`` (bond-based bonds a softening bond law can replace),
-``stress_tensor`` (a stress for the principal-stress criterion) and
+A family's schema (a :class:`FamilySpec`) declares the capabilities that other
+sections' checks ask: ``tension_softening`` (bond-based bonds a softening bond law can
+replace), ``stress_tensor`` (a stress for the principal-stress criterion) and
 ``point_rotations`` (rotational degrees of freedom a ``fixed`` condition can clamp).
 """
 
@@ -25,7 +25,20 @@ class Viscosity(Strict):
     quadratic: NonNegFloat = 0.0
 
 
-class Material(Strict):
+class FamilySpec(Strict):
+    """Base of a model family's ``material`` section: the capabilities the other
+    sections' checks ask (none by default) and the family's own checks."""
+
+    tension_softening: ClassVar[bool] = False
+    stress_tensor: ClassVar[bool] = False
+    point_rotations: ClassVar[bool] = False
+
+    def deck_errors(self, deck: Any) -> Errors:
+        """Checks of this family against the rest of ``deck``: the damage law's."""
+        return bond_law_errors(deck)
+
+
+class Material(FamilySpec):
     """Bond-based PMB material (``model: pmb``, the default)."""
 
     model: Literal["pmb", "bond_based"] = "pmb"
@@ -37,8 +50,6 @@ class Material(Strict):
     viscosity: Viscosity | None = None
 
     tension_softening: ClassVar[bool] = True
-    stress_tensor: ClassVar[bool] = False
-    point_rotations: ClassVar[bool] = False
 
     def deck_errors(self, deck: Any) -> Errors:
         """The Poisson ratio bond-based PD fixes, the damage law, and an explicit
@@ -71,7 +82,7 @@ class Material(Strict):
         return errors
 
 
-class LPSMaterialSpec(Strict):
+class LPSMaterialSpec(FamilySpec):
     """Ordinary state-based linear peridynamic solid (``model: lps``; Silling et al.
     2007, 2-D forms of Le et al. 2014): any Poisson ratio in the admissible range."""
 
@@ -82,10 +93,6 @@ class LPSMaterialSpec(Strict):
     influence: Literal["constant", "inverse"] = "constant"
     viscosity: Viscosity | None = None
 
-    tension_softening: ClassVar[bool] = False
-    stress_tensor: ClassVar[bool] = False
-    point_rotations: ClassVar[bool] = False
-
     def deck_errors(self, deck: Any) -> Errors:
         """The damage law, a 2-D or 3-D model, no SED softening."""
         errors = bond_law_errors(deck)
@@ -94,7 +101,7 @@ class LPSMaterialSpec(Strict):
         return errors + sed_softening_errors(deck)
 
 
-class MicropolarMaterialSpec(Strict):
+class MicropolarMaterialSpec(FamilySpec):
     """Micropolar bond-based material (``model: micropolar``; 2-D): axial, shear and
     rotational bond springs, every point with (u, v, theta); Zhou, Zhu & Li (n.d.),
     Diana & Casolo 2019. ``poisson_ratio`` up to 1/3 (plane stress) or 1/4 (plane
@@ -106,8 +113,6 @@ class MicropolarMaterialSpec(Strict):
     poisson_ratio: Annotated[float, Field(gt=-1.0, le=1.0 / 3.0, allow_inf_nan=False), Num] = 0.25
     rotational_stiffness_ratio: NonNegFloat = 1.0 / 12.0
 
-    tension_softening: ClassVar[bool] = False
-    stress_tensor: ClassVar[bool] = False
     point_rotations: ClassVar[bool] = True
 
     def deck_errors(self, deck: Any) -> Errors:
@@ -128,7 +133,7 @@ class MicropolarMaterialSpec(Strict):
         return errors + sed_softening_errors(deck) + bond_law_errors(deck)
 
 
-class CorrespondenceMaterialSpec(Strict):
+class CorrespondenceMaterialSpec(FamilySpec):
     """Correspondence (non-ordinary state-based) material (``model: correspondence``;
     2-D and 3-D): deformation gradient, a classical stress law and zero-energy-mode
     control (PD zero-energy modes (n.d.); Silling 2017). ``stabilization``: ``lbscmm``
@@ -143,9 +148,7 @@ class CorrespondenceMaterialSpec(Strict):
     stabilization_g: PosFloat | None = None
     law: Literal["st_venant_kirchhoff", "linear_elastic"] = "st_venant_kirchhoff"
 
-    tension_softening: ClassVar[bool] = False
     stress_tensor: ClassVar[bool] = True
-    point_rotations: ClassVar[bool] = False
 
     @model_validator(mode="after")
     def _g_only_for_silling(self) -> CorrespondenceMaterialSpec:
@@ -165,7 +168,7 @@ class CorrespondenceMaterialSpec(Strict):
 
 
 #: the registry of model families: deck name -> schema of its material section
-MATERIAL_SCHEMAS: dict[str, type[Strict]] = {
+MATERIAL_SCHEMAS: dict[str, type[FamilySpec]] = {
     "pmb": Material,
     "bond_based": Material,
     "lps": LPSMaterialSpec,
