@@ -36,7 +36,7 @@ def invalid_deck(exc: Any) -> str:
     return f"invalid deck:\n  {exc}\n{hint([exc.path])}".rstrip()
 
 
-def load(args: argparse.Namespace) -> Any:
+def load_from_args(args: argparse.Namespace) -> Any:
     """The deck of ``args.deck`` with the overrides ``args.set``, or ``None`` after
     printing why it is invalid."""
     try:

@@ -20,7 +20,14 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from peridynamics.app.checks import built_problem, err, load, out_of_memory, refuse, size_problem
+from peridynamics.app.checks import (
+    built_problem,
+    err,
+    load_from_args,
+    out_of_memory,
+    refuse,
+    size_problem,
+)
 from peridynamics.app.exit_codes import EXIT_INTERRUPTED, EXIT_INVALID, EXIT_OK, EXIT_UNSTABLE
 from peridynamics.parallel.launch import LaunchError, mpi_comm, share_cores
 
@@ -60,7 +67,7 @@ def _check(args: argparse.Namespace) -> tuple[Any, int]:
     if args.n < 1:
         err("--n must be >= 1")
         return None, EXIT_INVALID
-    deck = load(args)
+    deck = load_from_args(args)
     if deck is None:
         return None, EXIT_INVALID
     if deck.damage.weibull is None:

@@ -13,7 +13,7 @@ from peridynamics.app.checks import (
     built_problem,
     err,
     invalid_deck,
-    load,
+    load_from_args,
     out_of_memory,
     refuse,
     size_problem,
@@ -35,7 +35,7 @@ def cmd_check(args: argparse.Namespace) -> int:
     """
     from peridynamics.runner import SetupError, Simulation, build_cloud
 
-    deck = load(args)
+    deck = load_from_args(args)
     if deck is None:
         return EXIT_INVALID
     try:
@@ -146,7 +146,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         return EXIT_INVALID
     if getattr(args, "backend", None):
         args.set = [*(args.set or []), f"solver.backend={args.backend}"]
-    deck = load(args)
+    deck = load_from_args(args)
     if deck is None:
         return EXIT_INVALID
     out = Path(args.resume or args.out or Path("results") / deck.name)
