@@ -1,0 +1,1 @@
+"""Build: a deck into the objects of a simulation."""

@@ -1,0 +1,96 @@
+"""Estimates of a model from its deck before anything is built: its size (points,
+bonds, memory) and the steps of an explicit run (the continuum estimate of the stable
+time step)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from peridynamics.deck import (
+    BarGeometry,
+    BoxGeometry,
+    CylinderGeometry,
+    Deck,
+    DiscGeometry,
+    RectangleGeometry,
+    Solver,
+)
+
+
+@dataclass(frozen=True)
+class SizeEstimate:
+    """The size of a model estimated from its deck before anything is built: ``points``
+    from the bounding volume / spacing^dim, ``bonds`` (directed) from points x the
+    volume of the horizon ball / spacing^dim, ``bytes`` of peak memory from the
+    measured cost of a run (about 150 bytes per bond and 500 per point, plus the
+    interpreter and libraries). Floats: absurd decks give 1e30, not an overflow."""
+
+    points: float
+    bonds: float
+    bytes: float
+
+    BASE_BYTES = 0.3e9
+    BYTES_PER_POINT = 500.0
+    BYTES_PER_BOND = 150.0
+
+    def describe(self) -> str:
+        """One line: points, bonds, GB."""
+        return (
+            f"about {self.points:.3g} points, {self.bonds:.3g} bonds, "
+            f"{self.bytes / 1e9:.3g} GB of memory"
+        )
+
+
+def estimate_size(deck: Deck, n_points: float | None = None) -> SizeEstimate | None:
+    """Estimate points, bonds and memory from the deck alone (``None`` for a mesh
+    geometry unless ``n_points`` is given: its points are only known once it is read)."""
+    g, d = deck.geometry, deck.discretisation
+    dx, dim = d.spacing, deck.dim
+
+    def cells(length: float) -> float:
+        return length / dx
+
+    if n_points is None:
+        if isinstance(g, BarGeometry):
+            n_points = cells(g.length) + 1.0
+        elif isinstance(g, RectangleGeometry):
+            n_points = cells(g.size[0]) * cells(g.size[1])
+        elif isinstance(g, BoxGeometry):
+            n_points = cells(g.size[0]) * cells(g.size[1]) * cells(g.size[2])
+        elif isinstance(g, CylinderGeometry):
+            n_points = math.pi * cells(g.radius) ** 2 * cells(g.length)
+        elif isinstance(g, DiscGeometry):
+            n_points = math.pi * cells(g.radius) ** 2
+        else:
+            return None
+    reach = d.delta + (0.5 * dx if d.partial_volume == "extended" else 0.0)
+    r = reach / dx
+    family = {1: 2.0 * r, 2: math.pi * r * r, 3: 4.0 / 3.0 * math.pi * r**3}[dim]
+    n = float(n_points)
+    family = min(family, max(n - 1.0, 0.0))  # a family holds at most every other point
+    bonds = n * family
+    size = SizeEstimate.BASE_BYTES + SizeEstimate.BYTES_PER_POINT * n
+    return SizeEstimate(n, bonds, size + SizeEstimate.BYTES_PER_BOND * bonds)
+
+
+def estimate_steps(deck: Deck) -> float | None:
+    """Steps of an explicit run estimated before the bonds exist (``None`` for a static
+    solver): ``steps``, or ``end_time`` / dt with dt = ``time_step`` or ``safety_factor``
+    x the continuum estimate of the stable step of the PMB model (delta / (3 c) in 2-D,
+    delta / (sqrt(12) c) in 3-D, delta / (c sqrt(2 H_m)) in 1-D, c = sqrt(E / rho))."""
+    s = deck.solver
+    if not isinstance(s, Solver):
+        return None
+    if s.steps is not None:
+        return float(s.steps)
+    assert s.end_time is not None
+    if s.time_step is not None:
+        return math.ceil(s.end_time / s.time_step)
+    m, d = deck.material, deck.discretisation
+    speed = math.sqrt(m.youngs_modulus / m.density)
+    m_ratio = max(d.delta / d.spacing, 1.0)
+    harmonic = math.log(m_ratio) + 0.5772 + 0.5 / m_ratio
+    factor = {1: math.sqrt(2.0 * harmonic), 2: 3.0, 3: math.sqrt(12.0)}[deck.dim]
+    dt = s.safety_factor * d.delta / (factor * speed)
+    return s.end_time / dt if dt > 0 else math.inf
