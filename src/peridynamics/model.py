@@ -48,7 +48,7 @@ from peridynamics.models.base import DamageLaw, ForceModel
 from peridynamics.models.pmb import PMBForceModel
 from peridynamics.models.pmb_softening import PMBSofteningForceModel
 from peridynamics.models.softening import SoftenedStiffness
-from peridynamics.parallel.communicator import Communicator, active_comm
+from peridynamics.communicator import Communicator, active_comm
 from peridynamics.state import State
 
 

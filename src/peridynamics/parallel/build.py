@@ -4,7 +4,7 @@ Every rank builds the global point cloud, cuts out its points and ghosts
 (:mod:`peridynamics.parallel.local`), builds the bonds of its owned points and of the
 first ghost layer on that local cloud, then the model, loads and solver exactly as a
 serial run does, with the MPI communicator active
-(:func:`~peridynamics.parallel.communicator.using`).
+(:func:`~peridynamics.communicator.using`).
 What a decomposed run cannot do yet is refused here with the key that asks for it.
 """
 
@@ -13,7 +13,7 @@ from __future__ import annotations
 from typing import Any
 
 from peridynamics.io import deck as dk
-from peridynamics.parallel.communicator import using
+from peridynamics.communicator import using
 from peridynamics.parallel.local import (
     decompose,
     local_cloud,

@@ -21,7 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.geometry.cloud import PointCloud
-from peridynamics.parallel.communicator import SERIAL
+from peridynamics.communicator import SERIAL
 from peridynamics.parallel.mpi import MPICommunicator
 from peridynamics.state import State
 
