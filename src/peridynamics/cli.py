@@ -208,8 +208,10 @@ def cmd_check(args: argparse.Namespace) -> int:
     estimated first and a model that cannot fit in memory is refused (exit 2) unless
     ``--allow-large``.
     """
+    from peridynamics.app.run import Simulation
+    from peridynamics.build.cloud import build_cloud
+    from peridynamics.build.errors import SetupError
     from peridynamics.io.deck import MeshGeometry, estimate_size, estimate_steps
-    from peridynamics.runner import SetupError, Simulation, build_cloud
 
     deck = _load(args)
     if deck is None:
@@ -251,8 +253,10 @@ def _resume_hint(args: argparse.Namespace, out: Path) -> str:
 
 def cmd_run(args: argparse.Namespace) -> int:
     """Run a deck."""
+    from peridynamics.app.run import RunInterrupted, Simulation
+    from peridynamics.build.cloud import build_cloud
+    from peridynamics.build.errors import SetupError
     from peridynamics.io.deck import MeshGeometry
-    from peridynamics.runner import RunInterrupted, SetupError, Simulation, build_cloud
     from peridynamics.solvers import SimulationUnstable
 
     if args.resume and args.out:

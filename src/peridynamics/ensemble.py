@@ -76,6 +76,8 @@ def _run_members(
     args: argparse.Namespace, out: Path, seeds: list[int], prefix: str, catch_ctrl_c: bool
 ) -> tuple[list[dict[str, Any]], Problem | None]:
     """Run the realisations of ``seeds`` one after the other; stop at the first problem."""
+    from peridynamics.app.run import RunInterrupted, Simulation
+    from peridynamics.build.errors import SetupError
     from peridynamics.cli import (
         EXIT_INTERRUPTED,
         EXIT_UNSTABLE,
@@ -84,7 +86,6 @@ def _run_members(
         _refuse,
     )
     from peridynamics.io.deck import DeckError, load_deck
-    from peridynamics.runner import RunInterrupted, SetupError, Simulation
     from peridynamics.solvers import SimulationUnstable
 
     runs: list[dict[str, Any]] = []

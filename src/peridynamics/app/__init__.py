@@ -1,0 +1,1 @@
+"""The application layer: what runs built objects (the run loop, sweeps, ensembles)."""
