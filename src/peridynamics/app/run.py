@@ -132,8 +132,7 @@ class RunLoop:
         if dist is not None:  # the crash hook of a decomposed run is _crash_hook
             observers = [ob for ob in observers if not isinstance(ob, CrashAtStep)]
         total = self._sync(state, 0, False)[1]
-        self._observe(state, ctx, lambda v: [ob.on_start(ctx, v, resume) for ob in observers],
-                      total)  # fmt: skip
+        self._observe(state, ctx, partial(_on_start, observers, ctx, resume), total)
         n_total = solver.total_steps()
         t_start = time.perf_counter()
         steps_done_here = 0
@@ -375,6 +374,12 @@ def _peak_rss_gib() -> float:
 def _gather_rss(session: Any) -> list[float]:
     """Peak resident memory of every rank (GiB), in rank order."""
     return list(session.comm.gather_objects(_peak_rss_gib()))
+
+
+def _on_start(observers: list[Observer], ctx: RunContext, resumed: bool, s: State) -> None:
+    """Every observer's ``on_start`` hook."""
+    for ob in observers:
+        ob.on_start(ctx, s, resumed)
 
 
 def _on_step(observers: list[Observer], ctx: RunContext, result: Any, s: State) -> None:

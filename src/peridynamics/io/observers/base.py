@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 from numpy.typing import NDArray
 
@@ -35,7 +35,7 @@ class Blast:
 
     charge_kg: float
     standoff_m: float
-    shape: str
+    shape: Literal["triangular", "friedlander"]
     delay: float
 
 
