@@ -20,12 +20,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from peridynamics.app.run_progress import StopRequest, progress_bar
-from peridynamics.build.errors import SetupError
+from peridynamics.app.run_resume import resume_point
 from peridynamics.build.outputs import run_options
 from peridynamics.build.simulation import SimulationSetup
 from peridynamics.io import deck as dk
-from peridynamics.io.checkpoint import CHECKPOINT_NAME, read_checkpoint, read_checkpoint_meta
-from peridynamics.io.observers.base import Observer, RunContext, new_records
+from peridynamics.io.checkpoint import CHECKPOINT_NAME
+from peridynamics.io.observers.base import Observer, RunContext, RunOptions, new_records
 from peridynamics.io.observers.events import CrashAtStep
 from peridynamics.io.observers.frames import VTKFrames
 from peridynamics.io.observers.registry import observers_for
@@ -88,49 +88,17 @@ class RunLoop:
             (out / (CHECKPOINT_NAME + ".tmp")).unlink(missing_ok=True)  # left by a crash
         solver = self.solver
         if resume:
-            state, records, meta, fp = self._read_resume(out)
-            if fp != self.fingerprint():
-                raise SetupError(
-                    "--resume",
-                    f"the checkpoint in {str(out)!r} was written by "
-                    "a different deck; resume with the same deck and overrides",
-                )
-            finished = meta.get("finished", False) or solver.done(state)
-            if finished and (out / "summary.json").exists():
-                raise SetupError(
-                    "--resume",
-                    f"the run in {str(out)!r} has already finished "
-                    f"({state.step} steps, t = {state.t:.6g} s); nothing to resume "
-                    "(start a new run with --out)",
-                )
-            try:
-                solver.resume(state)
-            except ValueError as exc:
-                raise SetupError("--resume", str(exc)) from None
-            if checkpoint_every is None:  # keep the interval of the original run
-                checkpoint_every = int(records.get("checkpoint_every", 0))
-            if not quiet and root:
-                print(f"resuming from step {state.step} (t = {state.t:.6g} s) in {out}")
+            state, records, finished, checkpoint_every = resume_point(
+                solver, dist, self.fingerprint, out, checkpoint_every, not quiet and root
+            )
         else:
             finished = False
             state = solver.init()
             records = new_records(self.deck.output)
         every = int(checkpoint_every or 0)
         records["checkpoint_every"] = every
-        obs_model: Any = self.model
-        if dist is not None:
-            from peridynamics.parallel.session import GlobalModel
-
-            obs_model = GlobalModel(dist, self._global_bonds())
-        run = run_options(self.deck)
-        ctx = RunContext(run, obs_model, solver, out, records, self.fingerprint())
-        ctx.session = dist
-        ctx.stop = finished  # finished, but the outputs were not written: write them
-        observers = (
-            observers_for(run, obs_model, getattr(solver, "step_events", ()), every) if root else []
-        )
-        if dist is not None:  # the crash hook of a decomposed run is _crash_hook
-            observers = [ob for ob in observers if not isinstance(ob, CrashAtStep)]
+        ctx = self._context(out, records, finished)
+        observers = self._observers(ctx.run, ctx.model, every) if root else []
         total = self._sync(state, 0, False)[1]
         self._observe(state, ctx, partial(_on_start, observers, ctx, resume), total)
         n_total = solver.total_steps()
@@ -167,7 +135,7 @@ class RunLoop:
         except SimulationUnstable as exc:
             ctx.status, error = "unstable", str(exc)
             good = exc.last_good or state
-            frames = VTKFrames(run, obs_model)
+            frames = VTKFrames(ctx.run, ctx.model)
             self._observe(good, ctx, lambda v: frames.frame(ctx, v, name="last_good.vtu"),
                           total)  # fmt: skip
             wall = time.perf_counter() - t_start
@@ -185,6 +153,27 @@ class RunLoop:
         if every:  # the final state, marked finished: a --resume of it is refused
             self._checkpoint(ctx, state, {"finished": True})
         return summary
+
+    def _context(self, out: Path, records: dict[str, Any], finished: bool) -> RunContext:
+        """What the observers share; under MPI they see the whole body
+        (:class:`~peridynamics.parallel.session.GlobalModel`)."""
+        obs_model: Any = self.model
+        if self.session is not None:
+            from peridynamics.parallel.session import GlobalModel
+
+            obs_model = GlobalModel(self.session, self._global_bonds())
+        run = run_options(self.deck)
+        ctx = RunContext(run, obs_model, self.solver, out, records, self.fingerprint())
+        ctx.session = self.session
+        ctx.stop = finished  # finished, but the outputs were not written: write them
+        return ctx
+
+    def _observers(self, run: RunOptions, obs_model: Any, every: int) -> list[Observer]:
+        """The observers of this run (rank 0's under MPI)."""
+        observers = observers_for(run, obs_model, getattr(self.solver, "step_events", ()), every)
+        if self.session is not None:  # the crash hook of a decomposed run is _crash_hook
+            observers = [ob for ob in observers if not isinstance(ob, CrashAtStep)]
+        return observers
 
     # -- the decomposed run's collective steps (no-ops or plain calls when serial) -------
     def _global_bonds(self) -> int:
@@ -236,18 +225,6 @@ class RunLoop:
 
         self._observe(state, ctx, work, state.bonds_broken)
         return got[0]
-
-    def _read_resume(self, out: Path) -> tuple[State, dict[str, Any], dict[str, Any], str]:
-        """(state, records, meta, fingerprint) of the checkpoint to resume."""
-        if self.session is None:
-            state, records, fp = read_checkpoint(out)
-            return state, records, read_checkpoint_meta(out), fp
-        from peridynamics.io.rank_checkpoints import ResumeError, read_rank_checkpoint
-
-        try:
-            return read_rank_checkpoint(self.session, out)
-        except ResumeError as exc:
-            raise SetupError("--resume", str(exc)) from None
 
     def _finish(
         self,
