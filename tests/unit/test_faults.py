@@ -193,7 +193,7 @@ def test_a_model_too_large_is_refused_before_it_is_built(sets, key, bonds, capsy
     def never(*a, **k):  # noqa: ANN002, ANN003, ANN202
         raise AssertionError("built the model")
 
-    monkeypatch.setattr("peridynamics.build.simulation.build_cloud", never)
+    monkeypatch.setattr("peridynamics.build.cloud.build_cloud", never)
     args = ["check", str(PLATE), *_sets(sets)] + (["--bonds"] if bonds else [])
     assert main(args) == 2
     err = capsys.readouterr().err
@@ -205,7 +205,7 @@ def test_memory_error_anywhere_is_exit_2(tmp_path, capsys, monkeypatch) -> None:
     def oom(*a, **k):  # noqa: ANN002, ANN003, ANN202
         raise MemoryError("Unable to allocate 2.91 TiB")
 
-    monkeypatch.setattr("peridynamics.build.simulation.build_cloud", oom)
+    monkeypatch.setattr("peridynamics.build.cloud.build_cloud", oom)
     assert main(["check", str(BAR), "--allow-large"]) == 2
     assert "out of memory" in capsys.readouterr().err
     monkeypatch.setattr(Simulation, "from_deck", classmethod(oom))
