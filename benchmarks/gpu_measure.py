@@ -114,8 +114,8 @@ def measure_case(dim: int, n_side: int, steps: int, cpu_steps: int, device: str)
 
 def main_job(spacing: float | None, device: str) -> dict:
     """The README's main job on both backends: wall times and the damage compared."""
+    from peridynamics.app.run import Simulation
     from peridynamics.deck import load_deck
-    from peridynamics.runner import Simulation
 
     deck_path = ROOT / "examples" / "crack_branching_2d" / "deck.yaml"
     over = ["output.plot=none"]

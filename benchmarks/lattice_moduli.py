@@ -21,8 +21,8 @@ from tempfile import TemporaryDirectory
 
 import numpy as np
 
+from peridynamics.app.run import Simulation
 from peridynamics.deck import parse_deck
-from peridynamics.runner import Simulation
 
 E, SIGMA = 70e9, 1e6
 

@@ -66,7 +66,7 @@ Counts, per rank, exact on the lattice (a point at distance exactly w counts as 
 ``--check`` recounts all of this from explicit points for small grids (partition by
 :func:`peridynamics.parallel.decompose.rcb_partition`, ghost sets by
 :func:`peridynamics.parallel.decompose.ghost_points` with the radii of
-:func:`peridynamics.parallel.build.build_distributed`, families by
+:func:`peridynamics.build.decomposed.build_distributed`, families by
 ``scipy.spatial.cKDTree.query_pairs``), for several rank counts, boxes narrower than the
 ghost width, a non-integer horizon, a contact distance, P not a power of two and both
 designs, and stops with exit status 1 on any difference.

@@ -33,8 +33,8 @@ def _cpu() -> str:
 
 def run(reuse: bool, spacing: float, size: float, solves: int) -> dict:
     """One run; returns timing and the final bond status."""
+    from peridynamics.app.run import Simulation
     from peridynamics.deck import load_deck
-    from peridynamics.runner import Simulation
 
     sets = [
         f"discretisation.spacing={spacing}",

@@ -47,8 +47,8 @@ CASE = "bar_wave_1d"
 def run(out: Path, sets: list[str], do_run: bool) -> tuple[dict[str, Any], dict[str, float]]:
     """Run (or re-read) the deck; returns summary.json's content and the data of the
     analytic reference (material, load and gauge position, with the overrides applied)."""
+    from peridynamics.app.run import Simulation
     from peridynamics.deck import load_deck
-    from peridynamics.runner import Simulation
 
     deck = load_deck(HERE / "deck.yaml", overrides=sets)
     sim = Simulation.from_deck(deck)

@@ -84,8 +84,8 @@ def deck_for(law: str, spacing: float | None, sets: list[str]) -> dict[str, Any]
 
 def run(law: str, spacing: float | None, out: Path, sets: list[str]) -> Path:
     """Run one law at one spacing (``None``: the deck's); returns its folder."""
+    from peridynamics.app.run import Simulation
     from peridynamics.deck import parse_deck
-    from peridynamics.runner import Simulation
 
     data = deck_for(law, spacing, sets)
     folder = run_dir(out, law, float(data["discretisation"]["spacing"]))

@@ -53,8 +53,8 @@ def disc_deck(ratio: float, sets: list[str]) -> dict[str, Any]:
 
 def run_case(data: dict[str, Any], out: Path) -> None:
     """Run one deck into ``out``."""
+    from peridynamics.app.run import Simulation
     from peridynamics.deck import parse_deck
-    from peridynamics.runner import Simulation
 
     sim = Simulation.from_deck(parse_deck(data))
     sim.run(out, quiet=True, progress=False)

@@ -78,8 +78,8 @@ def run_deck(case: str, sets: list[str]) -> dict[str, Any]:
 
 
 def simulation(data: dict[str, Any]) -> Any:
+    from peridynamics.app.run import Simulation
     from peridynamics.deck import parse_deck
-    from peridynamics.runner import Simulation
 
     return Simulation.from_deck(parse_deck(data, HERE))
 

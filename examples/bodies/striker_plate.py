@@ -117,8 +117,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     p.add_argument("--no-run", action="store_true", help="analyse finished runs only")
     a = p.parse_args(argv)
+    from peridynamics.app.run import Simulation
     from peridynamics.deck import parse_deck
-    from peridynamics.runner import Simulation
 
     a.out.mkdir(parents=True, exist_ok=True)
     decks = [cloud_deck(0.0, 0, a.set)] + [cloud_deck(None, s, a.set) for s in a.seeds]

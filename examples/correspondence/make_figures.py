@@ -82,8 +82,8 @@ def variant_deck(case: str, variant: str) -> dict[str, Any]:
 def run_variant(case: str, variant: str, out: Path, sets: list[str], run: bool) -> dict[str, Any]:
     """Run (or re-read) one variant; returns summary.json's content. ``sets`` entries
     ``variant:key=value`` apply to that variant only."""
+    from peridynamics.app.run import Simulation
     from peridynamics.deck import apply_overrides, parse_deck
-    from peridynamics.runner import Simulation
 
     folder = out / case / variant
     if run:
@@ -124,8 +124,8 @@ def oscillation(x: np.ndarray, u: np.ndarray, dx: float) -> float:
 
 def _cauchy(case_deck: dict[str, Any], variant: str, state: Any) -> np.ndarray:
     """sigma_xx of every point: the correspondence stress, or the PMB virial stress."""
+    from peridynamics.app.run import Simulation
     from peridynamics.deck import parse_deck
-    from peridynamics.runner import Simulation
 
     sim = Simulation.from_deck(parse_deck(case_deck, HERE))
     model = sim.model

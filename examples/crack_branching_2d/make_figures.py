@@ -18,7 +18,7 @@ Runs ``deck.yaml`` into ``<out>/`` (default ``results/crack_branching_2d``) and 
   (docs/deck.md, ``surface_correction``; the constant of
   ``tests/regression/test_examples.py``); also with the ratio the library's crack-path
   observer uses (the median energy density under a uniform uniaxial *strain* over the
-  continuum value, :func:`peridynamics.io.observers.effective_modulus_ratio`: 0.877
+  continuum value, :func:`peridynamics.io.observers.crack_paths.effective_modulus_ratio`: 0.877
   here) and with the nominal E;
 * from ``summary.json`` (``output.crack_tip``, damage >= 0.35 along the ligament from the
   pre-crack tip): the time the crack starts, the tip position and speed histories, the
@@ -58,7 +58,7 @@ def rayleigh_speeds(sim: Any) -> dict[str, float | None]:
     """Rayleigh speeds (m/s, exact root, plane stress, nu = 1/3) of the model as run, from
     two measures of its interior modulus, and of the nominal E."""
     from peridynamics.analysis.crack_path import rayleigh_speed
-    from peridynamics.io.observers import effective_modulus_ratio
+    from peridynamics.io.observers.crack_paths import effective_modulus_ratio
 
     mat = sim.model.material
     plane = sim.cloud.plane or "stress"
@@ -82,8 +82,8 @@ def rayleigh_speeds(sim: Any) -> dict[str, float | None]:
 
 def run(out: Path, sets: list[str], no_run: bool) -> tuple[dict[str, Any], dict[str, float]]:
     """Run the deck into ``out`` (unless ``no_run``); (summary, Rayleigh speeds)."""
+    from peridynamics.app.run import Simulation
     from peridynamics.deck import load_deck
-    from peridynamics.runner import Simulation
 
     deck = load_deck(HERE / "deck.yaml", overrides=sets)
     sim = Simulation.from_deck(deck)

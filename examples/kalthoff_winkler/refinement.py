@@ -8,7 +8,7 @@ Usage (from the repository root)::
     python examples/kalthoff_winkler/refinement.py --out results/kw_16 \
         --set 'boundary_conditions.0.components={x: 16.5}'
 
-Each run goes through ``peridynamics.runner.Simulation`` into ``OUT/dx_<mm>``; the
+Each run goes through ``peridynamics.app.run.Simulation`` into ``OUT/dx_<mm>``; the
 paths come from ``final_state.npz`` (damage) and the cloud of ``build_cloud(deck)``
 (reference positions), with ``peridynamics.analysis.crack_path``. Damage frames every
 ``--frame-interval`` seconds give the path-length history and the tip speed. Writes
@@ -53,8 +53,9 @@ from peridynamics.analysis.crack_path import (
     rayleigh_speed,
     tip_speed_from_paths,
 )
+from peridynamics.app.run import Simulation
+from peridynamics.build.cloud import build_cloud
 from peridynamics.deck import RectangleGeometry, load_deck
-from peridynamics.runner import Simulation, build_cloud
 from peridynamics.solvers.explicit import ExplicitSolver
 
 HERE = Path(__file__).resolve().parent

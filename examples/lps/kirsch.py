@@ -63,10 +63,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from peridynamics.app.run import Simulation
 from peridynamics.bonds.bonds import Bonds
-from peridynamics.deck import Deck, load_deck
+from peridynamics.build.cloud import build_bonds_for, build_cloud
 from peridynamics.geometry.cloud import PointCloud
-from peridynamics.runner import Simulation, build_bonds_for, build_cloud
+from peridynamics.deck import Deck, load_deck
 
 HERE = Path(__file__).resolve().parent
 DECK = HERE / "plate_hole.yaml"
@@ -102,7 +103,7 @@ def nonlocal_stress(
     Parameters
     ----------
     x, u : (n, 2) reference positions and displacements (m).
-    bonds : the directed bond list (``peridynamics.runner.build_bonds_for``).
+    bonds : the directed bond list (``peridynamics.build.cloud.build_bonds_for``).
     youngs_modulus, poisson_ratio : E (Pa) and nu of the Hooke law.
     plane : "stress" (sigma_zz = 0) or "strain" (eps_zz = 0).
     intact : (n_bonds,) optional mask of intact bonds (``final_state.npz["intact"]``).

@@ -51,8 +51,8 @@ WINKLER_A = np.array(
 
 def run_case(case: str, out: Path, sets: list[str], run: bool) -> dict[str, Any]:
     """Run (or re-read) one deck; returns summary.json's content."""
+    from peridynamics.app.run import Simulation
     from peridynamics.deck import load_deck
-    from peridynamics.runner import Simulation
 
     folder = out / case
     if run:

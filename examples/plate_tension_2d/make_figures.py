@@ -51,8 +51,8 @@ RUNS = {"explicit": "deck.yaml", "adr": "adr.yaml"}
 def run(out: Path, deck_file: str, sets: list[str], do_run: bool) -> tuple[dict, dict]:
     """Run (or re-read) one deck into ``out``; returns summary.json's content and the data
     of the static reference (with the overrides applied)."""
+    from peridynamics.app.run import Simulation
     from peridynamics.deck import load_deck
-    from peridynamics.runner import Simulation
 
     deck = load_deck(HERE / deck_file, overrides=sets)
     sim = Simulation.from_deck(deck)

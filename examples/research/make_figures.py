@@ -50,8 +50,8 @@ CASE = "notched_plate"
 
 def run(out: Path, sets: list[str], no_run: bool) -> tuple[Any, dict[str, Any]]:
     """Run the deck into ``out`` (unless ``no_run``); (deck, summary)."""
+    from peridynamics.app.run import Simulation
     from peridynamics.deck import load_deck
-    from peridynamics.runner import Simulation
 
     deck = load_deck(HERE / f"{CASE}.yaml", overrides=sets)
     if not no_run:

@@ -43,8 +43,8 @@ from peridynamics.analysis.flaws import (  # noqa: E402
     bridges,
     initiation_direction,
 )
+from peridynamics.app.run import Simulation  # noqa: E402
 from peridynamics.deck import load_deck  # noqa: E402
-from peridynamics.runner import Simulation  # noqa: E402
 
 DECKS = ("flaw30_m10", "flaw45", "flaw60", "double_flaw45")
 PAPER = {

@@ -29,8 +29,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from peridynamics.app.run import Simulation  # noqa: E402
 from peridynamics.deck import load_deck  # noqa: E402
-from peridynamics.runner import Simulation  # noqa: E402
 
 
 def _finish(fig: plt.Figure, ax: plt.Axes, path: Path) -> Path:

@@ -22,8 +22,8 @@ try:
 except ImportError:  # running from a checkout without installing
     sys.path.insert(0, str(HERE.parents[1] / "src"))
 
+from peridynamics.app.run import Simulation  # noqa: E402
 from peridynamics.deck import load_deck  # noqa: E402
-from peridynamics.runner import Simulation  # noqa: E402
 
 #: Lu & Wang (2016), Table 1:
 #: case -> (m, dx (m), p_m (MPa), t0 (ms), dt (us), x_F range (m), t_F (ms))

@@ -22,8 +22,8 @@ except ImportError:  # running from a checkout without installing
 
 import numpy as np  # noqa: E402
 
+from peridynamics.app.run import Simulation  # noqa: E402
 from peridynamics.deck import load_deck  # noqa: E402
-from peridynamics.runner import Simulation  # noqa: E402
 
 SCHEMES = {"pd3": "PD3", "pd1_pd3": "PD1→PD3", "fdm_pd3": "FDM→PD3"}
 PAPER = {"pd3": (0.478, 2.00), "pd1_pd3": (0.466, 0.95), "fdm_pd3": (0.464, 0.53)}

@@ -64,8 +64,8 @@ CLAMPS = (1.0e-3, 1.5e-3, 2.0e-3)  # clamp faces (m) from each end; the middle i
 def run(out: Path, sets: list[str], do_run: bool) -> tuple[dict[str, Any], dict[str, Any]]:
     """Run (or re-read) the deck; returns summary.json's content and the deck data the
     references need (with the overrides applied)."""
+    from peridynamics.app.run import Simulation
     from peridynamics.deck import load_deck
-    from peridynamics.runner import Simulation
 
     deck = load_deck(HERE / f"{CASE}.yaml", overrides=sets)
     g = deck.geometry

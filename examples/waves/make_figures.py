@@ -39,8 +39,8 @@ from peridynamics.analysis.waves import (  # noqa: E402
     energy_spectral_density,
     pulse_comparison,
 )
+from peridynamics.app.run import Simulation  # noqa: E402
 from peridynamics.deck import load_deck  # noqa: E402
-from peridynamics.runner import Simulation  # noqa: E402
 
 KINDS = ("plain", "linear", "polynomial")
 VISCOUS = ["material.viscosity.linear=0.2", "material.viscosity.quadratic=2.0"]

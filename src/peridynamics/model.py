@@ -37,6 +37,7 @@ from numpy.typing import NDArray
 
 from peridynamics.bodies.composite import CompositeForceModel
 from peridynamics.bonds.bonds import Bonds
+from peridynamics.communicator import Communicator, active_comm
 from peridynamics.damage.critical_stretch import NO_DAMAGE, CriticalStretchLaw
 from peridynamics.damage.sed import SEDSoftening
 from peridynamics.geometry.cloud import PointCloud
@@ -48,7 +49,6 @@ from peridynamics.models.base import DamageLaw, ForceModel
 from peridynamics.models.pmb import PMBForceModel
 from peridynamics.models.pmb_softening import PMBSofteningForceModel
 from peridynamics.models.softening import SoftenedStiffness
-from peridynamics.parallel.communicator import Communicator, active_comm
 from peridynamics.state import State
 
 

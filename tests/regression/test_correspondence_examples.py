@@ -51,8 +51,8 @@ def test_plate_small(tmp_path: Path) -> None:
 def test_three_point_bend_small(tmp_path: Path) -> None:
     """dx = 2 mm, the load point pushed 0.15 mm in 6 load steps, LBSCMM only: the crack
     starts at the notch tip and runs up the notch plane."""
+    from peridynamics.app.run import Simulation
     from peridynamics.deck import apply_overrides, parse_deck
-    from peridynamics.runner import Simulation
 
     mod = _figures()
     data = apply_overrides(

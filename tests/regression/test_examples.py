@@ -155,8 +155,8 @@ def test_every_example_deck_sets_up(deck) -> None:
     check included), whether or not another test runs it."""
     import warnings
 
+    from peridynamics.app.run import Simulation
     from peridynamics.deck import load_deck
-    from peridynamics.runner import Simulation
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the ring's blast is outside the fits on purpose

@@ -45,8 +45,8 @@ def test_nonlocal_stress_is_exact_for_an_affine_field() -> None:
     """The least-squares gradient reproduces a homogeneous strain at every point, also on
     the truncated families at the hole and the plate edges; Hooke's law in plane stress."""
     mod = _load_script()
+    from peridynamics.build.cloud import build_bonds_for, build_cloud
     from peridynamics.deck import load_deck
-    from peridynamics.runner import build_bonds_for, build_cloud
 
     deck = load_deck(DECK, ["discretisation.spacing=2.0e-3"])
     cloud = build_cloud(deck)

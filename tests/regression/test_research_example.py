@@ -12,8 +12,8 @@ import meshio
 import numpy as np
 import pytest
 
+from peridynamics.app.run import Simulation
 from peridynamics.deck import load_deck
-from peridynamics.runner import Simulation
 from tests.helpers import EXAMPLES
 
 DECK = EXAMPLES / "research" / "notched_plate.yaml"

@@ -174,8 +174,8 @@ def test_weibull_shape_trend_at_paper_scale() -> None:
     One realisation per m is not enough to see it (the seed-to-seed spread at m = 10 is
     0.3 % of the area, as large as the step from m = 20 to 100): compare the means of
     three Weibull fields each for m = 2, 10 and 100."""
+    from peridynamics.app.run import Simulation
     from peridynamics.deck import load_deck
-    from peridynamics.runner import Simulation
 
     means = []
     for m in (2, 10, 100):

@@ -13,8 +13,8 @@ from peridynamics.analysis.waves import (
     energy_spectral_density,
     pulse_comparison,
 )
+from peridynamics.app.run import Simulation
 from peridynamics.deck import load_deck
-from peridynamics.runner import Simulation
 from tests.helpers import EXAMPLES, cli
 
 

@@ -8,14 +8,15 @@ import numpy as np
 import pytest
 
 from peridynamics import BondBasedMaterial, Model, build_bonds
-from peridynamics import deck as dk
+from peridynamics.app.run import Simulation
 from peridynamics.bodies.build import select_bonds
 from peridynamics.bodies.composite import BodiesDamage, BodiesMaterial, BodyPart
 from peridynamics.bodies.interface import InterfaceBonds
+from peridynamics.build.errors import SetupError
 from peridynamics.damage import CriticalStretch
 from peridynamics.geometry import rectangle
+from peridynamics import deck as dk
 from peridynamics.materials import MATERIALS
-from peridynamics.runner import SetupError, Simulation
 from peridynamics.solvers.explicit import ExplicitSolver
 
 DX = 1e-3

@@ -13,11 +13,13 @@ import numpy as np
 import pytest
 
 from peridynamics import BondBasedMaterial, CriticalStretch, Model
+from peridynamics.app.run import Simulation
+from peridynamics.build.cloud import build_bonds_for
+from peridynamics.build.materials import build_damage
 from peridynamics.damage import CriticalStretchLaw
 from peridynamics.damage.bond_softening import SofteningBonds
 from peridynamics.deck import DeckError, parse_deck
 from peridynamics.kernels.reference import stretch
-from peridynamics.runner import Simulation, build_bonds_for, build_damage
 
 E, RHO, FT, G0 = 30e9, 2400.0, 3e6, 20.0  # concrete-like: s0 = f_t / E = 1e-4
 H = 1e-3  # plate thickness (m)

@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from peridynamics.app.run import Simulation
 from peridynamics.deck import DeckError, parse_deck
-from peridynamics.runner import Simulation
 
 BASE = {
     "name": "cc",

@@ -1,6 +1,6 @@
 """Crack length (2-D) and area (3-D) from broken bonds (analysis/crack_length.py), its
 attribution to tracked cracks, the threshold warning of the crack trackers, and the
-summary.json keys of a small run (io/observers_cracks.py)."""
+summary.json keys of a small run (io/observers/cracks.py, crack_threshold.py)."""
 
 from __future__ import annotations
 
@@ -17,13 +17,17 @@ from peridynamics.analysis.crack_length import (
     broken_bond_crack_length,
     orientation_factor,
 )
+from peridynamics.app.run import Simulation
 from peridynamics.bonds.bonds import Bonds, build_bonds
 from peridynamics.bonds.precrack import RectangleCrack, SegmentCrack, crossing_bonds
-from peridynamics.deck import parse_deck
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.geometry.generators import box, rectangle
-from peridynamics.io.observers_cracks import CrackThresholdWarning, ridge_mask, threshold_check
-from peridynamics.runner import Simulation
+from peridynamics.deck import parse_deck
+from peridynamics.io.observers.crack_threshold import (
+    CrackThresholdWarning,
+    ridge_mask,
+    threshold_check,
+)
 
 DX = 1.0  # grid spacing (m): lengths below are in spacings
 

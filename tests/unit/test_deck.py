@@ -16,6 +16,8 @@ from typing import Any
 import pytest
 import yaml
 
+from peridynamics.build.cloud import build_cloud
+from peridynamics.build.errors import SetupError
 from peridynamics.deck import (
     Deck,
     DeckError,
@@ -23,7 +25,6 @@ from peridynamics.deck import (
     load_deck,
     parse_deck,
 )
-from peridynamics.runner import SetupError, build_cloud
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = sorted((ROOT / "examples").glob("*/deck.yaml"))

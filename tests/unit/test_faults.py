@@ -22,11 +22,12 @@ import pytest
 import yaml
 
 from peridynamics.app import checks as cli_mod
-from peridynamics.build.estimates import estimate_size, estimate_steps
+from peridynamics.app.run import RunInterrupted, Simulation
+from peridynamics.build.errors import SetupError
 from peridynamics.cli import main
-from peridynamics.deck import DeckError, load_deck, yaml_load
 from peridynamics.io.checkpoint import CHECKPOINT_NAME, read_checkpoint, read_checkpoint_meta
-from peridynamics.runner import RunInterrupted, SetupError, Simulation
+from peridynamics.build.estimates import estimate_size, estimate_steps
+from peridynamics.deck import DeckError, load_deck, yaml_load
 from tests.helpers import EXAMPLES, ROOT
 
 BAR = EXAMPLES / "bar_wave_1d" / "deck.yaml"
@@ -187,7 +188,7 @@ def test_a_model_too_large_is_refused_before_it_is_built(sets, key, bonds, capsy
     def never(*a, **k):  # noqa: ANN002, ANN003, ANN202
         raise AssertionError("built the model")
 
-    monkeypatch.setattr("peridynamics.runner.build_cloud", never)
+    monkeypatch.setattr("peridynamics.build.cloud.build_cloud", never)
     args = ["check", str(PLATE), *_sets(sets)] + (["--bonds"] if bonds else [])
     assert main(args) == 2
     err = capsys.readouterr().err
@@ -199,7 +200,7 @@ def test_memory_error_anywhere_is_exit_2(tmp_path, capsys, monkeypatch) -> None:
     def oom(*a, **k):  # noqa: ANN002, ANN003, ANN202
         raise MemoryError("Unable to allocate 2.91 TiB")
 
-    monkeypatch.setattr("peridynamics.runner.build_cloud", oom)
+    monkeypatch.setattr("peridynamics.build.cloud.build_cloud", oom)
     assert main(["check", str(BAR), "--allow-large"]) == 2
     assert "out of memory" in capsys.readouterr().err
     monkeypatch.setattr(Simulation, "from_deck", classmethod(oom))
@@ -366,7 +367,7 @@ def test_unknown_keys_point_to_the_help_command(capsys) -> None:
 
 
 def test_progress_rate_is_an_average() -> None:
-    from peridynamics.runner import _RateColumn
+    from peridynamics.app.run_progress import _RateColumn
 
     col = _RateColumn(start=100)
     assert col.text(100, 1000) == "-- steps/s"

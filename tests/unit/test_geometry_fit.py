@@ -14,9 +14,12 @@ from typing import Any
 import numpy as np
 import pytest
 
+from peridynamics.app.run import Simulation
 from peridynamics.bonds import build_bonds
 from peridynamics.bonds.precrack import crossing_bonds
-from peridynamics.deck import DeckError, parse_deck
+from peridynamics.build.cloud import build_cloud
+from peridynamics.build.errors import SetupError
+from peridynamics.build.loads import build_conditions
 from peridynamics.geometry import (
     GeometryFitWarning,
     Notch,
@@ -28,7 +31,7 @@ from peridynamics.geometry import (
 )
 from peridynamics.geometry.generators import fit_cells
 from peridynamics.geometry.regions import Ball
-from peridynamics.runner import SetupError, Simulation, build_cloud, build_conditions
+from peridynamics.deck import DeckError, parse_deck
 
 DX = 1.0e-3
 

@@ -11,10 +11,12 @@ import yaml
 
 from peridynamics.analysis.crack import branching, crack_tip
 from peridynamics.bonds import make_crack
-from peridynamics.deck import DeckError, load_deck, parse_deck
+from peridynamics.build.cloud import build_cloud
+from peridynamics.build.errors import SetupError
+from peridynamics.build.loads import build_conditions
 from peridynamics.geometry import NearestPoint, rectangle
+from peridynamics.deck import DeckError, load_deck, parse_deck
 from peridynamics.loading import traction_as_body_force
-from peridynamics.runner import SetupError, build_cloud, build_conditions
 from tests.helpers import EXAMPLES, cli
 
 BASE = {

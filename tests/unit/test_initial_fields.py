@@ -9,10 +9,13 @@ import numpy as np
 import pytest
 import yaml
 
+from peridynamics.app.run import Simulation
+from peridynamics.build.cloud import build_cloud
+from peridynamics.build.errors import SetupError
+from peridynamics.build.loads import build_conditions
 from peridynamics.cli import main
 from peridynamics.deck import DeckError, load_deck, parse_deck
 from peridynamics.loading.conditions import FIELD_FUNCTIONS, FieldExpression
-from peridynamics.runner import SetupError, Simulation, build_cloud, build_conditions
 
 BASE = {
     "name": "fields",

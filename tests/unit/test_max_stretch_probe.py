@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 import yaml
 
+from peridynamics.app.run import Simulation
 from peridynamics.deck import apply_overrides, parse_deck
-from peridynamics.runner import Simulation
 
 DECK = """
 name: ms

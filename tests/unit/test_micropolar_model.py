@@ -399,8 +399,8 @@ def test_explicit_deck_writes_rotation_and_moment(tmp_path):
 
     import meshio
 
+    from peridynamics.app.run import Simulation
     from peridynamics.deck import parse_deck
-    from peridynamics.runner import Simulation
 
     deck = parse_deck(
         {

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from peridynamics.io.observers import read_bonds
+from peridynamics.io.observers.bonds import read_bonds
 from tests.helpers import EXAMPLES, cli, mpiexec
 
 MPIEXEC, WHY = mpiexec()

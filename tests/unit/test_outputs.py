@@ -14,8 +14,8 @@ import meshio
 import numpy as np
 import pytest
 
+from peridynamics.app.run import Simulation
 from peridynamics.deck import DeckError, parse_deck
-from peridynamics.runner import Simulation
 
 PLATE: dict[str, Any] = {
     "name": "plate",

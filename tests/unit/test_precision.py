@@ -78,8 +78,9 @@ def test_float32_breaking_is_symmetric_and_close_to_float64(dim):
 
 
 def test_deck_precision_float32_runs_and_other_models_are_refused(tmp_path):
+    from peridynamics.app.run import Simulation
+    from peridynamics.build.errors import SetupError
     from peridynamics.deck import load_deck
-    from peridynamics.runner import SetupError, Simulation
 
     text = """
 name: f32

@@ -23,8 +23,10 @@ import numpy as np
 import pytest
 
 from peridynamics.analysis.beams import timoshenko_goodier_tip_deflection
+from peridynamics.app.run import Simulation
 from peridynamics.bonds.bonds import build_bonds
 from peridynamics.bonds.precrack import make_crack
+from peridynamics.build.errors import SetupError
 from peridynamics.damage.critical_stretch import CriticalStretch
 from peridynamics.deck import DeckError, parse_deck
 from peridynamics.geometry.generators import rectangle
@@ -33,7 +35,6 @@ from peridynamics.materials.bond_based import BondBasedMaterial
 from peridynamics.materials.lps import LPSMaterial
 from peridynamics.materials.micropolar import MicropolarMaterial
 from peridynamics.model import Model
-from peridynamics.runner import SetupError, Simulation
 from peridynamics.solvers.newton import StaticSolver
 from peridynamics.solvers.static import solve_linear_static
 

@@ -13,8 +13,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from peridynamics.app.run import Simulation
 from peridynamics.deck import load_deck
-from peridynamics.runner import Simulation
 from tests.helpers import EXAMPLES
 
 wp = pytest.importorskip("warp", reason="warp-lang not installed (pip install '.[gpu]')")

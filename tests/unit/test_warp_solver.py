@@ -12,8 +12,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from peridynamics.app.run import Simulation
+from peridynamics.build.errors import SetupError
 from peridynamics.deck import load_deck, parse_deck
-from peridynamics.runner import SetupError, Simulation
 from peridynamics.solvers import SimulationUnstable
 from tests.helpers import EXAMPLES
 

@@ -21,8 +21,8 @@ import pytest
 import yaml
 
 from peridynamics.analysis.crack_path import extract_crack_paths
+from peridynamics.app.run import Simulation
 from peridynamics.deck import parse_deck
-from peridynamics.runner import Simulation
 from tests.helpers import EXAMPLES
 from tests.unit.test_crack_length import _strip_deck
 

@@ -18,8 +18,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from peridynamics.app.run import Simulation
 from peridynamics.deck import parse_deck
-from peridynamics.runner import Simulation
 
 E = 70e9
 SIGMA = 1e6

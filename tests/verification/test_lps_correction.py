@@ -422,8 +422,8 @@ def test_stable_step_bound_still_holds(dim):
 
 # -- the deck default -------------------------------------------------------------------
 def test_deck_default_builds_the_calibrated_model(tmp_path):
+    from peridynamics.app.run import Simulation
     from peridynamics.deck import parse_deck
-    from peridynamics.runner import Simulation
 
     deck = {
         "name": "lps_default",

@@ -1,1 +1,1 @@
-"""Application: sweeps, ensembles and the benchmark, on top of the build layer."""
+"""The application layer: what runs built objects (the run loop, sweeps, ensembles)."""

@@ -28,7 +28,7 @@ from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds, setup_chunk_bonds
 from peridynamics.bonds.search import bond_chunks
-from peridynamics.parallel.communicator import active_comm
+from peridynamics.communicator import active_comm
 
 #: the dimensionless fourth moment <n_x^4> of the continuous ball, 3 / (d (d + 2))
 _COS4 = {1: 1.0, 2: 3.0 / 8.0, 3: 1.0 / 5.0}

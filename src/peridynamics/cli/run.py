@@ -33,7 +33,9 @@ def cmd_check(args: argparse.Namespace) -> int:
     estimated first and a model that cannot fit in memory is refused (exit 2) unless
     ``--allow-large``.
     """
-    from peridynamics.runner import SetupError, Simulation, build_cloud
+    from peridynamics.app.run import Simulation
+    from peridynamics.build.cloud import build_cloud
+    from peridynamics.build.errors import SetupError
 
     deck = load_from_args(args)
     if deck is None:
@@ -139,7 +141,9 @@ def _done(args: argparse.Namespace, out: Path, summary: dict[str, Any]) -> None:
 
 def cmd_run(args: argparse.Namespace) -> int:
     """Run a deck."""
-    from peridynamics.runner import RunInterrupted, SetupError, Simulation, build_cloud
+    from peridynamics.app.run import RunInterrupted, Simulation
+    from peridynamics.build.cloud import build_cloud
+    from peridynamics.build.errors import SetupError
     from peridynamics.solvers import SimulationUnstable
 
     if _bad_run_args(args):

@@ -1,5 +1,6 @@
-"""The PNG figures of a run (``output.plot``: one kind or a list) and the frames'
-PNG series (``output.png_frames``).
+"""Drawing the PNG figures of a run (the :class:`~peridynamics.io.observers.figures.Figure`
+observer, ``output.plot``: one kind or a list) and the frames' PNG series
+(``output.png_frames``).
 
 Kinds: ``damage`` (the damage map over the reference configuration; 1-D: damage
 against x; 3-D: slices through the model, ``output.slices``, by default the three
@@ -12,15 +13,13 @@ on the deformed shape, displacements magnified by ``output.deformation_scale``),
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
-from peridynamics import deck as dk
-from peridynamics.io.observers import Observer, RunContext
-from peridynamics.io.options import Slice
-from peridynamics.io.plots import plot_damage, plot_histories, plt
+from peridynamics.io.options import Output, Slice
+from peridynamics.io.plots import plot_damage, plt
 from peridynamics.state import State
 
 if TYPE_CHECKING:
@@ -40,10 +39,10 @@ UNITS = {
 }
 
 
-def probe_units(deck: dk.Deck) -> dict[str, str]:
+def probe_units(output: Output) -> dict[str, str]:
     """The unit of every probe by name (derived probes take their first input's)."""
     units: dict[str, str] = {}
-    for p in deck.output.probes:
+    for p in output.probes:
         if p.of:
             units[p.name] = units.get(p.of[0], "-")
         else:
@@ -51,12 +50,12 @@ def probe_units(deck: dk.Deck) -> dict[str, str]:
     return units
 
 
-def deformation_scale(deck: dk.Deck, x: NDArray, u: NDArray) -> float:
+def deformation_scale(output: Output, x: NDArray, u: NDArray) -> float:
     """``output.deformation_scale``, or the factor that draws the 99th percentile of
     the displacement magnitudes as 5 % of the model's largest extent (at least 1: the
     figure never shrinks displacements; 1 when nothing moved)."""
-    if deck.output.deformation_scale is not None:
-        return float(deck.output.deformation_scale)
+    if output.deformation_scale is not None:
+        return float(output.deformation_scale)
     # the 99th percentile, so a few flying fragments do not set the scale; never < 1
     umax = float(np.percentile(np.linalg.norm(u, axis=1), 99)) if u.size else 0.0
     size = float(np.ptp(x, axis=0).max()) if len(x) else 0.0
@@ -131,95 +130,16 @@ def slices_figure(
 
 
 def deformed_figure(
-    path: Path, deck: dk.Deck, model: Model, s: State, damage: NDArray, title: str
+    path: Path, output: Output, model: Model, s: State, damage: NDArray, title: str
 ) -> None:
     """Damage on the deformed shape (2-D map; 3-D slices), displacements magnified."""
     cloud = model.cloud
-    scale = deformation_scale(deck, cloud.x, s.u)
+    scale = deformation_scale(output, cloud.x, s.u)
     title = f"{title}, u x {scale:.3g}"
     if cloud.dim == 3:
-        slices_figure(path, cloud.x, damage, cloud.spacing, title, deck.output.slices,
+        slices_figure(path, cloud.x, damage, cloud.spacing, title, output.slices,
                       s.u, scale, cloud.irregular)  # fmt: skip
         return
     rigid = getattr(model, "rigid", None)
     outlines = rigid.outlines(s, cloud.x) if rigid is not None else None
     plot_damage(path, cloud.x + scale * s.u, damage, cloud.spacing, title, outlines)
-
-
-class Figure(Observer):
-    """The PNGs of the run, ``{name}_{kind}.png``, one per kind in ``output.plot``."""
-
-    def __init__(self, deck: dk.Deck, model: Model) -> None:
-        self.deck, self.model = deck, model
-
-    def kinds(self) -> list[str]:
-        """The figure kinds asked for (``auto``: probes in 1-D, damage otherwise)."""
-        plot = self.deck.output.plot
-        if plot == "none":
-            return []
-        if plot == "auto":
-            return ["probes" if self.model.dim == 1 else "damage"]
-        return [plot] if isinstance(plot, str) else list(dict.fromkeys(plot))
-
-    def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
-        files = []
-        for kind in self.kinds():
-            path = ctx.out / f"{self.deck.name}_{kind}.png"
-            getattr(self, f"_{kind}")(path, ctx, s, results)
-            files.append(path.name)
-        return files
-
-    def _title(self, s: State, what: str = "damage") -> str:
-        name = self.deck.name
-        if getattr(self.deck.solver, "type", "explicit") in ("adr", "static"):
-            return f"{name}: {what} after load step {s.step}"  # pseudo-time is no time
-        return f"{name}: {what} at t = {s.t * 1e6:.2f} us"
-
-    def _damage(self, path: Path, ctx: RunContext, s: State, results: dict[str, Any]) -> None:
-        cloud, damage = self.model.cloud, ctx.damage(s)
-        title = self._title(s)
-        if cloud.dim == 1:
-            plot_histories(path, cloud.x[:, 0].tolist(), {"damage": damage.tolist()}, title,
-                           xlabel="x (m)", xscale=1.0)  # fmt: skip
-        elif cloud.dim == 3:
-            slices_figure(path, cloud.x, damage, cloud.spacing, title, self.deck.output.slices,
-                          irregular=cloud.irregular)  # fmt: skip
-        else:
-            rigid = getattr(self.model, "rigid", None)
-            outlines = rigid.outlines(s, cloud.x) if rigid is not None else None
-            plot_damage(path, cloud.x, damage, cloud.spacing, title, outlines)
-
-    def _deformed(self, path: Path, ctx: RunContext, s: State, results: dict[str, Any]) -> None:
-        deformed_figure(path, self.deck, self.model, s, ctx.damage(s),
-                        self._title(s, "damage on the deformed shape"))  # fmt: skip
-
-    def _probes(self, path: Path, ctx: RunContext, s: State, results: dict[str, Any]) -> None:
-        r, units = ctx.records, probe_units(self.deck)
-        series = {f"{n} ({units[n]})": v for n, v in r["probes"].items()}
-        series = series or {"kinetic energy (J)": r["kinetic_energy_J"]}
-        plot_histories(path, r["time_s"], series, f"{self.deck.name}: probes")
-
-    def _energies(self, path: Path, ctx: RunContext, s: State, results: dict[str, Any]) -> None:
-        r = ctx.records
-        series = {
-            "kinetic energy (J)": r["kinetic_energy_J"],
-            "strain energy (J)": r["strain_energy_J"],
-            "largest damage (-)": r["max_damage"],
-        }
-        plot_histories(path, r["time_s"], series, f"{self.deck.name}: energies")
-
-    def _stress_strain(
-        self, path: Path, ctx: RunContext, s: State, results: dict[str, Any]
-    ) -> None:
-        ss = results.get("stress_strain") or {"strain": [], "stress_Pa": []}
-        fig, ax = plt.subplots(figsize=(6, 4.5))
-        ax.plot(np.asarray(ss["strain"]) * 1e3, np.asarray(ss["stress_Pa"]) / 1e6, lw=1.4)
-        if results.get("peak_stress_Pa") is not None:
-            ax.plot(results["strain_at_peak"] * 1e3, results["peak_stress_Pa"] / 1e6, "o")
-        ax.set_xlabel("strain (1e-3)")
-        ax.set_ylabel("stress (MPa)")
-        ax.grid(alpha=0.3)
-        ax.set_title(f"{self.deck.name}: stress-strain")
-        fig.tight_layout()
-        fig.savefig(path, dpi=150)
-        plt.close(fig)

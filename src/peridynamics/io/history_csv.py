@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from peridynamics import deck as dk
+from peridynamics.io.options import Output
 
 BASE = (
     ("time_s", "time [s]"),
@@ -27,7 +27,7 @@ BASE = (
 )
 
 
-def history_columns(deck: dk.Deck, records: dict[str, Any]) -> dict[str, list[float]]:
+def history_columns(output: Output, records: dict[str, Any]) -> dict[str, list[float]]:
     """The columns of ``history.csv`` by header, each as long as ``time_s``."""
     from peridynamics.io.figures import probe_units
 
@@ -40,7 +40,7 @@ def history_columns(deck: dk.Deck, records: dict[str, Any]) -> dict[str, list[fl
 
     for key, header in BASE:
         add(header, records.get(key))
-    units = probe_units(deck)
+    units = probe_units(output)
     for name, values in records["probes"].items():
         add(f"{name} [{units.get(name, '-')}]", values)
     add("stress [Pa]", records.get("stress_Pa"))
@@ -66,9 +66,9 @@ def history_columns(deck: dk.Deck, records: dict[str, Any]) -> dict[str, list[fl
     return cols
 
 
-def write_history_csv(path: Path, deck: dk.Deck, records: dict[str, Any]) -> str:
+def write_history_csv(path: Path, output: Output, records: dict[str, Any]) -> str:
     """Write the table atomically; returns the file name."""
-    cols = history_columns(deck, records)
+    cols = history_columns(output, records)
     tmp = Path(str(path) + ".tmp")
     with open(tmp, "w", newline="") as fh:
         w = csv.writer(fh)

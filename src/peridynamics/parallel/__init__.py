@@ -1,5 +1,1 @@
-"""Distribution seams: the communicator every global reduction goes through."""
-
-from peridynamics.parallel.communicator import SERIAL, Communicator, SerialCommunicator
-
-__all__ = ["SERIAL", "Communicator", "SerialCommunicator"]
+"""Decomposed (MPI) runs: partition, local clouds, the MPI communicator, the session."""

@@ -4,7 +4,8 @@ Every rank steps its part of the body. After each step rank 0 runs the observers
 same code as a serial run) on a :class:`GlobalModel` and a :class:`GlobalState`: views
 of the whole body whose per-point fields are gathered from the ranks when an observer
 first reads them in that step (``Gatherv`` to rank 0), and whose bond quantities
-(damage, energies, bond counts, crack measures) are computed by every rank on its own
+(damage, energies, bond counts; the crack measures of
+:mod:`peridynamics.io.observers.crack_bonds`) are computed by every rank on its own
 bonds and reduced. Each request is broadcast by rank 0 (:meth:`Session.call`); the
 other ranks wait in :meth:`Session.serve` and answer it until rank 0 ends the step. All
 decisions that depend on observer results (stop, events) are taken by rank 0 alone, so
@@ -20,8 +21,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from peridynamics.communicator import SERIAL
 from peridynamics.geometry.cloud import PointCloud
-from peridynamics.parallel.communicator import SERIAL
 from peridynamics.parallel.mpi import MPICommunicator
 from peridynamics.state import State
 
@@ -64,11 +65,10 @@ class Session:
             "bond_counts": lambda: self.model.bond_counts(self._local()),
             "sed_field": self._sed_field,
             "attr": self._attr,
-            "crack": self._crack,
-            "broken_pairs": self._broken_pairs,
             "call": self._callable,
         }
-        self._meter: Any = None
+        #: what requests keep between steps (the crack meter of the crack outputs)
+        self.cache: dict[str, Any] = {}
 
     # -- the protocol --------------------------------------------------------------------
     def call(self, name: str, *args: Any) -> Any:
@@ -124,71 +124,6 @@ class Session:
 
     def _callable(self, fn: Callable[..., Any], *args: Any) -> Any:
         return fn(self, *args)
-
-    def _crack(self, what: str, separating: bool) -> Any:
-        """Crack measures of the owned bonds: the sum ("measure") or, on rank 0, the
-        weights and midpoints of every counted bond ("weights")."""
-        from peridynamics.io.observers_cracks import all_intact, build_meter
-
-        m, s = self.model, self._local()
-        if self._meter is None:
-            self._meter = build_meter(m, self._orientation_table())
-        flags = all_intact(m, s)
-        idx, w = self._meter.weights(flags, separating=separating, exchange=self.comm.exchange)
-        keep = idx < m.owned_bonds
-        idx, w = idx[keep], w[keep]
-        if what == "measure":
-            return self.comm.sum(float(w.sum()))
-        parts = self.comm.comm.gather((self._meter.midpoints(idx), w), root=0)
-        if not self.root:
-            return None
-        mids = np.concatenate([p[0] for p in parts]).reshape(-1, m.dim)
-        return mids, np.concatenate([p[1] for p in parts])
-
-    def _orientation_table(self) -> NDArray[np.float64]:
-        """The crack meter's orientation table from the whole body's interior families,
-        as a serial run makes it (the same sample, the same bond order)."""
-        from peridynamics.analysis.crack_length import (
-            family_first_moment,
-            orientation_table,
-            pick_interior,
-        )
-
-        m, comm = self.model, self.comm
-        b, dim, n_own = m.bonds, m.dim, comm.n_owned
-        s = np.bincount(b.bond_i, weights=b.bond_length, minlength=b.n_points)
-        lop = family_first_moment(b, s, dim)
-        whole = [self._to_root(a) for a in (s, lop, b.family_size)]
-        pts = None
-        if self.root:
-            pts = pick_interior(whole[0], whole[1], whole[2], dim)  # type: ignore[arg-type]
-        pts = comm.comm.bcast(pts, root=0)
-        gid = m.cloud.global_ids
-        chosen = np.zeros(b.n_points, dtype=bool)
-        chosen[:n_own] = np.isin(gid[:n_own], pts)
-        k = np.flatnonzero(chosen[b.bond_i])
-        parts = comm.comm.gather((gid[b.bond_i[k]], b.bond_xi[k]), root=0)
-        table = None
-        if self.root:
-            owner = np.concatenate([p[0] for p in parts])
-            xi = np.concatenate([p[1] for p in parts]).reshape(-1, dim)
-            order = np.argsort(owner, kind="stable")  # families in global order
-            table = orientation_table(xi[order], m.cloud.spacing, dim)
-        return comm.comm.bcast(table, root=0)
-
-    def _broken_pairs(self) -> tuple[NDArray[np.intp], NDArray[np.intp]] | None:
-        """The owned bonds broken during the run, in global ids, on rank 0."""
-        from peridynamics.io.observers_cracks import broken_pairs
-
-        i, j = broken_pairs(self.model, self._local())
-        gid = self.model.cloud.global_ids
-        parts = self.comm.comm.gather((gid[i], gid[j]), root=0)
-        if not self.root:
-            return None
-        return (
-            np.concatenate([p[0] for p in parts]).astype(np.intp),
-            np.concatenate([p[1] for p in parts]).astype(np.intp),
-        )
 
 
 class _LazyFields(dict):  # type: ignore[type-arg]
@@ -328,18 +263,6 @@ class GlobalModel:
 
     def strain_energy_density(self, u: NDArray, intact: Any) -> NDArray:
         return self._session.call("sed_field", u)
-
-    def crack_measure(self, separating: bool = True) -> float:
-        """Broken-bond crack length (area) of the whole body."""
-        return self._session.call("crack", "measure", separating)
-
-    def crack_weights(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """Midpoints (k, dim) and weights (k,) of every counted broken bond."""
-        return self._session.call("crack", "weights", True)
-
-    def broken_pairs(self) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
-        """Global ids of the end points of the bonds broken during the run."""
-        return self._session.call("broken_pairs")
 
     def section_stress(self, u: NDArray, intact: Any, position: float) -> float:
         raise ValueError("section_stress probes are 1-D; 1-D runs are not decomposed")

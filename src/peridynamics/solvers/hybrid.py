@@ -62,6 +62,9 @@ class HybridSolver:
     and 1 after the switch, so checkpoints resume in the right phase.
     """
 
+    #: named events of its step results (a capability: the run loop records them)
+    step_events: tuple[str, ...] = ("switched",)
+
     def __init__(self, first: ExplicitSolver, second: ExplicitSolver, rule: SwitchingRule) -> None:
         if first.model.n_points != second.model.n_points:
             raise ValueError("hybrid solvers need the same points in both models")

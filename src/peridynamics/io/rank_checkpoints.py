@@ -26,6 +26,11 @@ from peridynamics.state import State
 MARKER = "checkpoint_mpi.json"
 
 
+class ResumeError(ValueError):
+    """The checkpoint of a decomposed run cannot be resumed (the run loop reports it as
+    a set-up error of ``--resume``)."""
+
+
 def _name(step: int) -> str:
     return f"checkpoint_{step:09d}.npz"
 
@@ -62,10 +67,8 @@ def read_rank_checkpoint(
     session: Session, out: Path
 ) -> tuple[State, dict[str, Any], dict[str, Any], str]:
     """Every rank: (state, records, meta, fingerprint) of the step the marker names.
-    Raises SetupError (on every rank) when there is no marker, when it was written by
+    Raises ResumeError (on every rank) when there is no marker, when it was written by
     another number of ranks, or when a rank's file is missing."""
-    from peridynamics.runner import SetupError
-
     comm = session.comm
     info: Any = None
     if session.root:
@@ -76,10 +79,9 @@ def read_rank_checkpoint(
             info = f"no checkpoint of an MPI run in {str(out)!r} (expected {MARKER})"
     info = comm.bcast(info)
     if isinstance(info, str):
-        raise SetupError("--resume", info)
+        raise ResumeError(info)
     if int(info["ranks"]) != comm.size:
-        raise SetupError(
-            "--resume",
+        raise ResumeError(
             f"the checkpoint in {str(out)!r} was written by {info['ranks']} MPI ranks; "
             f"resume with mpiexec -n {info['ranks']} (the partition depends on the rank "
             "count; resuming on another count is not supported)",
@@ -91,7 +93,7 @@ def read_rank_checkpoint(
         problem = f"rank {comm.rank}: {exc}"
     problems = [p for p in comm.gather_objects(problem) if p]
     if problems:
-        raise SetupError("--resume", "; ".join(problems))
+        raise ResumeError("; ".join(problems))
     records = comm.bcast(records if session.root else None)
     meta = {k: v for k, v in info.items() if k not in ("step", "t", "ranks")}
     return state, records, meta, fp

@@ -10,12 +10,11 @@ deformable bodies, the plain single-body model otherwise, and the rigid bodies
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from peridynamics import deck as dk
 from peridynamics.bodies.build import BodyLayout, assemble_points, build_interfaces, split_bonds
 from peridynamics.bodies.composite import (
     BodiesDamage,
@@ -26,10 +25,14 @@ from peridynamics.bodies.composite import (
 )
 from peridynamics.bodies.rigid import RigidBody, RigidSystem
 from peridynamics.bonds.bonds import Bonds
+from peridynamics.build.errors import SetupError
+from peridynamics.build.geometry import geometry_cloud
+from peridynamics.build.loads import time_function
+from peridynamics.build.materials import build_damage, build_material
+from peridynamics.build.regions import to_region
 from peridynamics.geometry.cloud import PointCloud
-
-if TYPE_CHECKING:
-    from peridynamics.model import Model
+from peridynamics import deck as dk
+from peridynamics.model import Model
 
 
 def has_bodies(deck: dk.Deck) -> bool:
@@ -39,8 +42,6 @@ def has_bodies(deck: dk.Deck) -> bool:
 
 def build_body_points(deck: dk.Deck, main: PointCloud) -> tuple[PointCloud, BodyLayout]:
     """The deformable points of every body (``main`` first) and where each body is."""
-    from peridynamics.io.regions import to_region
-    from peridynamics.runner import SetupError, geometry_cloud
 
     def geometry(g: Any) -> PointCloud:
         return geometry_cloud(g, deck.discretisation)
@@ -85,9 +86,6 @@ def build_bodies_model(
     contact: Any,
 ) -> Model:
     """The evaluator of a deck with several deformable bodies (see module docstring)."""
-    from peridynamics.model import Model
-    from peridynamics.runner import SetupError, build_damage, build_material
-
     if deck.damage.sed_softening is not None or any(
         b.damage is not None and b.damage.sed_softening is not None for b in deck.bodies
     ):
@@ -195,7 +193,6 @@ def build_rigid_system(
         return None
     from peridynamics.bodies.rigid_contact import contact_for_shape, shape_of
     from peridynamics.contact import ShortRangeContact
-    from peridynamics.runner import SetupError, geometry_cloud, time_function
 
     con = deck.contact or dk.Contact()
     d_c = con.distance_factor * cloud.spacing

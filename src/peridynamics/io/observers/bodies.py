@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from peridynamics.io.observers import Observer, RunContext
+from peridynamics.io.observers.base import Observer, RunContext
 from peridynamics.solvers.base import StepResult
 from peridynamics.state import State
 

@@ -24,9 +24,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from peridynamics import deck as dk
-from peridynamics.io.observers import Observer, RunContext
-from peridynamics.io.options import load_source
+from peridynamics.io.options import Output, load_source
+from peridynamics.io.observers.base import Observer, RunContext, RunOptions
 from peridynamics.io.vtk import write_pvd, write_vtu
 from peridynamics.solvers.base import StepResult
 from peridynamics.state import State
@@ -35,9 +34,9 @@ if TYPE_CHECKING:
     from peridynamics.model import Model
 
 
-def frame_fields(deck: dk.Deck, s: State, damage: NDArray) -> dict[str, NDArray]:
+def frame_fields(output: Output, s: State, damage: NDArray) -> dict[str, NDArray]:
     """The point fields of a frame, as chosen by ``output.fields``."""
-    fields = deck.output.fields
+    fields = output.fields
     data: dict[str, NDArray] = {}
     if "displacement" in fields:
         data["displacement"] = s.u
@@ -55,10 +54,10 @@ def frame_fields(deck: dk.Deck, s: State, damage: NDArray) -> dict[str, NDArray]
     return data
 
 
-def load_value(deck: dk.Deck, records: dict[str, Any]) -> float | None:
+def load_value(output: Output, records: dict[str, Any]) -> float | None:
     """The load at the last history record: the probe ``output.load_probe``, else the
     stress of ``output.stress_strain``, else the first ``reaction_force`` probe."""
-    src = load_source(deck.output)
+    src = load_source(output)
     if src is None:
         return None
     if src == "stress_strain":
@@ -72,9 +71,9 @@ class VTKFrames(Observer):
     """VTU frames (``output.vtk_every`` steps, ``output.frames_at`` times,
     ``output.frames_on`` events, the first and the last state) and the PVD series."""
 
-    def __init__(self, deck: dk.Deck, model: Model) -> None:
-        self.deck, self.model = deck, model
-        o = deck.output
+    def __init__(self, run: RunOptions, model: Model) -> None:
+        self.run, self.model = run, model
+        o = run.output
         self.times = sorted(o.frames_at)
         self.events = set(o.frames_on)
         thr = o.fracture.damage_threshold if o.fracture is not None else 0.3
@@ -86,21 +85,21 @@ class VTKFrames(Observer):
     def frame(self, ctx: RunContext, s: State, name: str | None = None) -> str:
         """Write one frame (``name``: a one-off file outside the series); returns its
         file name."""
-        data = frame_fields(self.deck, s, ctx.damage(s))
+        data = frame_fields(self.run.output, s, ctx.damage(s))
         fname = self._write(ctx.out / (name or f"frame_{s.step:07d}.vtu"), data)
         if name is None:
             frames = [f for f in ctx.records["vtk_frames"] if f[1] != fname]
             frames.append((s.t, fname))
             ctx.records["vtk_frames"] = frames
-            write_pvd(ctx.out / f"{self.deck.name}.pvd", [tuple(f) for f in frames])
-            if self.deck.output.png_frames:
+            write_pvd(ctx.out / f"{self.run.name}.pvd", [tuple(f) for f in frames])
+            if self.run.output.png_frames:
                 self._png(ctx, s, fname)
         return fname
 
     def _write(self, path: Path, data: dict[str, NDArray]) -> str:
         """Write a frame; its file name. A decomposed run writes one piece per rank
         (the points it owns) and a ``.pvtu`` file that joins them (the name returned)."""
-        o = self.deck.output
+        o = self.run.output
         compression = None if o.frame_compression == "none" else o.frame_compression
         ranks = getattr(self.model, "point_ranks", None)
         x = self.model.cloud.x
@@ -124,11 +123,11 @@ class VTKFrames(Observer):
 
         folder = ctx.out / "png"
         folder.mkdir(exist_ok=True)
-        if getattr(self.deck.solver, "type", "explicit") in ("adr", "static"):
-            title = f"{self.deck.name}: load step {s.step}"  # pseudo-time is no time
+        if self.run.static:
+            title = f"{self.run.name}: load step {s.step}"  # pseudo-time is no time
         else:
-            title = f"{self.deck.name}: step {s.step}, t = {s.t * 1e6:.3g} us"
-        deformed_figure(folder / (Path(fname).stem + ".png"), self.deck, self.model, s,
+            title = f"{self.run.name}: step {s.step}, t = {s.t * 1e6:.3g} us"
+        deformed_figure(folder / (Path(fname).stem + ".png"), self.run.output, self.model, s,
                         ctx.damage(s), title)  # fmt: skip
 
     def _event(self, ctx: RunContext, s: State, name: str, **extra: float) -> None:
@@ -159,7 +158,7 @@ class VTKFrames(Observer):
         return hit
 
     def on_step(self, ctx: RunContext, s: State, result: StepResult) -> None:
-        every = self.deck.output.vtk_every
+        every = self.run.output.vtk_every
         due = bool(every and s.step % every == 0)
         if self._due_times(ctx, s):
             due = True
@@ -172,19 +171,19 @@ class VTKFrames(Observer):
             thr = self.fracture_threshold  # points a pre-crack already damaged don't count
             if np.any((ctx.damage(s) >= thr) & (ctx.initial_damage() < thr)):
                 self._event(ctx, s, "fracture")
-        if ctx.history_due(s) and load_source(self.deck.output) is not None:
+        if ctx.history_due(s) and load_source(self.run.output) is not None:
             self._track_peak(ctx, s)
         cp = int(ctx.records.get("checkpoint_every", 0) or 0)
         if cp and s.step % cp == 0:
             self._write_peak(ctx)
 
     def _track_peak(self, ctx: RunContext, s: State) -> None:
-        load = load_value(self.deck, ctx.records)
+        load = load_value(self.run.output, ctx.records)
         if load is None or (self._peak is not None and abs(load) <= abs(self._peak[0])):
             return
         snap = {}
         if "peak_load" in self.events:
-            data = frame_fields(self.deck, s, ctx.damage(s))
+            data = frame_fields(self.run.output, s, ctx.damage(s))
             snap = {k: np.array(v, dtype=np.float32 if self._f32 else np.float64)
                     for k, v in data.items()}  # fmt: skip
         self._peak = (load, s.step, s.t, snap)
@@ -193,7 +192,7 @@ class VTKFrames(Observer):
 
     @property
     def _f32(self) -> bool:
-        return self.deck.output.frame_precision == "float32"
+        return self.run.output.frame_precision == "float32"
 
     def _write_peak(self, ctx: RunContext) -> None:
         if self._peak is None or self._peak_written or "peak_load" not in self.events:
@@ -205,7 +204,7 @@ class VTKFrames(Observer):
     def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
         self._write_peak(ctx)
         results["events"] = ctx.records.get("events", {})
-        every = self.deck.output.vtk_every
+        every = self.run.output.vtk_every
         if ctx.status == "unstable":
             return []
         if not every or s.step % every:

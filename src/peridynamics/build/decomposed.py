@@ -4,7 +4,7 @@ Every rank builds the global point cloud, cuts out its points and ghosts
 (:mod:`peridynamics.parallel.local`), builds the bonds of its owned points and of the
 first ghost layer on that local cloud, then the model, loads and solver exactly as a
 serial run does, with the MPI communicator active
-(:func:`~peridynamics.parallel.communicator.using`).
+(:func:`~peridynamics.communicator.using`).
 What a decomposed run cannot do yet is refused here with the key that asks for it.
 """
 
@@ -12,8 +12,15 @@ from __future__ import annotations
 
 from typing import Any
 
+from peridynamics.bonds.partial_volume import search_radius
+from peridynamics.build.bodies import has_bodies
+from peridynamics.build.cloud import build_bonds_for, build_cloud
+from peridynamics.build.errors import SetupError
+from peridynamics.build.loads import build_conditions
+from peridynamics.build.materials import build_model
+from peridynamics.build.solvers import build_solver
+from peridynamics.communicator import using
 from peridynamics import deck as dk
-from peridynamics.parallel.communicator import using
 from peridynamics.parallel.local import (
     decompose,
     local_cloud,
@@ -25,12 +32,9 @@ from peridynamics.parallel.mpi import MPICommunicator
 
 def _refuse(deck: dk.Deck, size: int) -> None:
     """SetupError for what a decomposed run does not support."""
-    from peridynamics.bodies.from_deck import has_bodies
-    from peridynamics.runner import SetupError
-
     how = f"run it on one rank (without mpiexec -n {size}), or as an ensemble/sweep member"
     s = deck.solver
-    if isinstance(s, dk.StaticSolverSpec):
+    if s.type == "static":
         raise SetupError("solver.type", f"the static (Newton) solver is not distributed; {how}")
     if isinstance(s, dk.Solver) and (s.hybrid is not None or s.method == "fdm"):
         key = "solver.hybrid" if s.hybrid is not None else "solver.method"
@@ -39,7 +43,7 @@ def _refuse(deck: dk.Deck, size: int) -> None:
         raise SetupError("bodies", f"several bodies are not distributed yet; {how}")
     if deck.rigid_bodies:
         raise SetupError("rigid_bodies", f"rigid bodies are not distributed yet; {how}")
-    if isinstance(deck.material, dk.MicropolarMaterialSpec):
+    if deck.material.model == "micropolar":
         raise SetupError("material.model", f"micropolar runs are not distributed; {how}")
 
 
@@ -49,7 +53,7 @@ def ghost_families(deck: dk.Deck, cloud: Any) -> bool:
     point's own family (LPS dilatation, correspondence force state, SED levels, the
     moment surface correction of irregular clouds); not for plain bond-based PMB, which
     reads only u and v there (one layer, no redundant work)."""
-    plain = isinstance(deck.material, dk.Material) and deck.damage.bond_law == "brittle"
+    plain = deck.material.model in ("pmb", "bond_based") and deck.damage.bond_law == "brittle"
     return not plain or deck.damage.sed_softening is not None or cloud.irregular
 
 
@@ -57,16 +61,6 @@ def build_distributed(deck: dk.Deck, comm: Any) -> dict[str, Any]:
     """The objects of this rank: ``cloud`` (local), ``global_cloud``, ``model``,
     ``solver``, ``communicator`` (a :class:`MPICommunicator`) and ``n_family`` (points
     with a bond family: owned and first ghost layer)."""
-    from peridynamics.bonds.partial_volume import search_radius
-    from peridynamics.runner import (
-        SetupError,
-        build_bonds_for,
-        build_cloud,
-        build_conditions,
-        build_model,
-        build_solver,
-    )
-
     size = int(comm.Get_size())
     global_cloud = build_cloud(deck)
     if global_cloud.dim == 1:

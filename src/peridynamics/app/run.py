@@ -1,17 +1,16 @@
 """The run loop of a simulation: observers, checkpoints, Ctrl-C, progress, the summary.
 
-:class:`RunLoop` is the part of :class:`peridynamics.runner.Simulation` that steps a
-built model: ``solver.step`` until ``solver.done``, every observer after each step,
-checkpoints, ``summary.json``. Under MPI (``mpiexec -n N``) the same loop runs on every
-rank; rank 0 runs the observers on views of the whole body while the other ranks answer
-its requests (:mod:`peridynamics.parallel.session`).
+:class:`Simulation` is a deck built into objects
+(:class:`peridynamics.build.simulation.SimulationSetup`) that runs: :class:`RunLoop`
+steps the built model, ``solver.step`` until ``solver.done``, every observer after
+each step, checkpoints, ``summary.json``. Under MPI (``mpiexec -n N``) the same loop
+runs on every rank; rank 0 runs the observers on views of the whole body while the
+other ranks answer its requests (:mod:`peridynamics.parallel.session`).
 """
 
 from __future__ import annotations
 
 import os
-import signal
-import threading
 import time
 from collections.abc import Callable
 from functools import partial
@@ -20,20 +19,19 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from peridynamics.app.run_progress import StopRequest, progress_bar
+from peridynamics.app.run_resume import resume_point
+from peridynamics.build.outputs import run_options
+from peridynamics.build.simulation import SimulationSetup
 from peridynamics import deck as dk
-from peridynamics.io.checkpoint import CHECKPOINT_NAME, read_checkpoint, read_checkpoint_meta
-from peridynamics.io.observers import (
-    CrashAtStep,
-    Observer,
-    RunContext,
-    new_records,
-    observers_for,
-)
-from peridynamics.io.observers_frames import VTKFrames
+from peridynamics.io.checkpoint import CHECKPOINT_NAME
+from peridynamics.io.observers.base import Observer, RunContext, RunOptions, new_records
+from peridynamics.io.observers.events import CrashAtStep
+from peridynamics.io.observers.frames import VTKFrames
+from peridynamics.io.observers.registry import observers_for
 from peridynamics.io.summary import write_summary
 from peridynamics.solvers.base import Solver
 from peridynamics.solvers.explicit import SimulationUnstable
-from peridynamics.solvers.hybrid import HybridSolver
 from peridynamics.state import State
 
 if TYPE_CHECKING:
@@ -43,7 +41,7 @@ if TYPE_CHECKING:
 
 class RunLoop:
     """Stepping, observing and finishing a built simulation (a base of
-    :class:`peridynamics.runner.Simulation`, which supplies the attributes below)."""
+    :class:`Simulation`, whose :class:`SimulationSetup` supplies the attributes below)."""
 
     deck: dk.Deck
     cloud: PointCloud
@@ -54,7 +52,7 @@ class RunLoop:
     global_cloud: PointCloud | None
 
     def fingerprint(self) -> str:
-        """Hash of what a checkpoint must match (the subclass's)."""
+        """Hash of what a checkpoint must match (:meth:`SimulationSetup.fingerprint`)."""
         raise NotImplementedError
 
     def run(
@@ -82,8 +80,6 @@ class RunLoop:
         a summary with status ``"interrupted"``; :class:`RunInterrupted` is raised. A
         second Ctrl-C aborts at once (KeyboardInterrupt, nothing more written).
         """
-        from peridynamics.runner import SetupError
-
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
         dist = self.session  # a decomposed run: rank 0 observes, the others serve
@@ -92,60 +88,26 @@ class RunLoop:
             (out / (CHECKPOINT_NAME + ".tmp")).unlink(missing_ok=True)  # left by a crash
         solver = self.solver
         if resume:
-            state, records, meta, fp = self._read_resume(out)
-            if fp != self.fingerprint():
-                raise SetupError(
-                    "--resume",
-                    f"the checkpoint in {str(out)!r} was written by "
-                    "a different deck; resume with the same deck and overrides",
-                )
-            finished = meta.get("finished", False) or solver.done(state)
-            if finished and (out / "summary.json").exists():
-                raise SetupError(
-                    "--resume",
-                    f"the run in {str(out)!r} has already finished "
-                    f"({state.step} steps, t = {state.t:.6g} s); nothing to resume "
-                    "(start a new run with --out)",
-                )
-            try:
-                solver.resume(state)
-            except ValueError as exc:
-                raise SetupError("--resume", str(exc)) from None
-            if checkpoint_every is None:  # keep the interval of the original run
-                checkpoint_every = int(records.get("checkpoint_every", 0))
-            if not quiet and root:
-                print(f"resuming from step {state.step} (t = {state.t:.6g} s) in {out}")
+            state, records, finished, checkpoint_every = resume_point(
+                solver, dist, self.fingerprint, out, checkpoint_every, not quiet and root
+            )
         else:
             finished = False
             state = solver.init()
-            records = new_records(self.deck)
+            records = new_records(self.deck.output)
         every = int(checkpoint_every or 0)
         records["checkpoint_every"] = every
-        obs_model: Any = self.model
-        if dist is not None:
-            from peridynamics.parallel.session import GlobalModel
-
-            obs_model = GlobalModel(dist, self._global_bonds())
-        ctx = RunContext(self.deck, obs_model, solver, out, records, self.fingerprint())
-        ctx.session = dist
-        ctx.stop = finished  # finished, but the outputs were not written: write them
-        observers = (
-            observers_for(self.deck, obs_model, isinstance(solver, HybridSolver), every)
-            if root
-            else []
-        )
-        if dist is not None:  # the crash hook of a decomposed run is _crash_hook
-            observers = [ob for ob in observers if not isinstance(ob, CrashAtStep)]
+        ctx = self._context(out, records, finished)
+        observers = self._observers(ctx.run, ctx.model, every) if root else []
         total = self._sync(state, 0, False)[1]
-        self._observe(state, ctx, lambda v: [ob.on_start(ctx, v, resume) for ob in observers],
-                      total)  # fmt: skip
+        self._observe(state, ctx, partial(_on_start, observers, ctx, resume), total)
         n_total = solver.total_steps()
         t_start = time.perf_counter()
         steps_done_here = 0
         work = 0  # force evaluations: steps, or iterations of a static solver
-        bar = _progress(quiet or not progress or not root, n_total, state.step, self.deck.name)
+        bar = progress_bar(quiet or not progress or not root, n_total, state.step, self.deck.name)
         error = None
-        stop = _StopRequest()
+        stop = StopRequest()
         stopped = False  # a Ctrl-C on some rank, agreed after a step
         crash = _crash_hook(dist)
         try:
@@ -173,7 +135,7 @@ class RunLoop:
         except SimulationUnstable as exc:
             ctx.status, error = "unstable", str(exc)
             good = exc.last_good or state
-            frames = VTKFrames(self.deck, obs_model)
+            frames = VTKFrames(ctx.run, ctx.model)
             self._observe(good, ctx, lambda v: frames.frame(ctx, v, name="last_good.vtu"),
                           total)  # fmt: skip
             wall = time.perf_counter() - t_start
@@ -191,6 +153,27 @@ class RunLoop:
         if every:  # the final state, marked finished: a --resume of it is refused
             self._checkpoint(ctx, state, {"finished": True})
         return summary
+
+    def _context(self, out: Path, records: dict[str, Any], finished: bool) -> RunContext:
+        """What the observers share; under MPI they see the whole body
+        (:class:`~peridynamics.parallel.session.GlobalModel`)."""
+        obs_model: Any = self.model
+        if self.session is not None:
+            from peridynamics.parallel.session import GlobalModel
+
+            obs_model = GlobalModel(self.session, self._global_bonds())
+        run = run_options(self.deck)
+        ctx = RunContext(run, obs_model, self.solver, out, records, self.fingerprint())
+        ctx.session = self.session
+        ctx.stop = finished  # finished, but the outputs were not written: write them
+        return ctx
+
+    def _observers(self, run: RunOptions, obs_model: Any, every: int) -> list[Observer]:
+        """The observers of this run (rank 0's under MPI)."""
+        observers = observers_for(run, obs_model, getattr(self.solver, "step_events", ()), every)
+        if self.session is not None:  # the crash hook of a decomposed run is _crash_hook
+            observers = [ob for ob in observers if not isinstance(ob, CrashAtStep)]
+        return observers
 
     # -- the decomposed run's collective steps (no-ops or plain calls when serial) -------
     def _global_bonds(self) -> int:
@@ -242,15 +225,6 @@ class RunLoop:
 
         self._observe(state, ctx, work, state.bonds_broken)
         return got[0]
-
-    def _read_resume(self, out: Path) -> tuple[State, dict[str, Any], dict[str, Any], str]:
-        """(state, records, meta, fingerprint) of the checkpoint to resume."""
-        if self.session is None:
-            state, records, fp = read_checkpoint(out)
-            return state, records, read_checkpoint_meta(out), fp
-        from peridynamics.parallel.checkpoints import read_rank_checkpoint
-
-        return read_rank_checkpoint(self.session, out)
 
     def _finish(
         self,
@@ -379,6 +353,12 @@ def _gather_rss(session: Any) -> list[float]:
     return list(session.comm.gather_objects(_peak_rss_gib()))
 
 
+def _on_start(observers: list[Observer], ctx: RunContext, resumed: bool, s: State) -> None:
+    """Every observer's ``on_start`` hook."""
+    for ob in observers:
+        ob.on_start(ctx, s, resumed)
+
+
 def _on_step(observers: list[Observer], ctx: RunContext, result: Any, s: State) -> None:
     """Every observer's ``on_step`` hook."""
     for ob in observers:
@@ -389,7 +369,7 @@ def _crash_hook(dist: Any) -> int | None:
     """Test hook of a decomposed run: the step after which rank
     ``PERIDYNAMICS_CRASH_RANK`` (default 0) dies (exit 137, like SIGKILL), from
     ``PERIDYNAMICS_CRASH_AT_STEP``; ``None`` when unset or serial (serial runs use the
-    :class:`~peridynamics.io.observers.CrashAtStep` observer)."""
+    :class:`~peridynamics.io.observers.events.CrashAtStep` observer)."""
     if dist is None or "PERIDYNAMICS_CRASH_AT_STEP" not in os.environ:
         return None
     if int(os.environ.get("PERIDYNAMICS_CRASH_RANK", "0")) != dist.comm.rank:
@@ -410,107 +390,6 @@ class RunInterrupted(KeyboardInterrupt):
         super().__init__(f"interrupted after step {step} of {total} (t = {t:.6g} s)")
 
 
-class _StopRequest:
-    """While active (a context manager, main thread only), the first SIGINT only sets
-    ``requested`` so that the run loop stops between two steps; a second one raises
-    KeyboardInterrupt at once. Elsewhere SIGINT keeps its handler."""
-
-    def __init__(self) -> None:
-        self.requested = False
-        self._previous: Any = None
-        self._installed = False
-
-    def _handler(self, signum: int, frame: Any) -> None:
-        if self.requested:
-            raise KeyboardInterrupt
-        self.requested = True
-
-    def __enter__(self) -> _StopRequest:
-        if threading.current_thread() is threading.main_thread():
-            self._previous = signal.signal(signal.SIGINT, self._handler)
-            self._installed = True
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        if self._installed:
-            signal.signal(signal.SIGINT, self._previous)
-            self._installed = False
-
-
-class _NoBar:
-    def __enter__(self) -> _NoBar:
-        return self
-
-    def __exit__(self, *a: object) -> None:
-        return None
-
-    def update(self, step: int) -> None:
-        return None
-
-
-def _clock(seconds: float) -> str:
-    seconds = int(round(seconds))
-    h, rest = divmod(seconds, 3600)
-    return f"{h}:{rest // 60:02d}:{rest % 60:02d}"
-
-
-class _RateColumn:
-    """Steps per second and the time left, from the average rate since this process
-    started stepping (rich's own estimate uses the last few updates and jumps about when
-    the machine is shared)."""
-
-    def __init__(self, start: int) -> None:
-        self.start = start
-        self.t0 = time.perf_counter()
-
-    def text(self, completed: float, total: float | None) -> str:
-        done = completed - self.start
-        elapsed = time.perf_counter() - self.t0
-        if done <= 0 or elapsed <= 0:
-            return "-- steps/s"
-        rate = done / elapsed
-        left = f" ETA {_clock((total - completed) / rate)}" if total else ""
-        return f"{rate:.3g} steps/s{left}"
-
-
-class _RichBar:
-    def __init__(self, total: int, start: int, label: str) -> None:
-        from rich.progress import (
-            BarColumn,
-            MofNCompleteColumn,
-            Progress,
-            ProgressColumn,
-            TextColumn,
-            TimeElapsedColumn,
-        )
-        from rich.text import Text
-
-        rate = _RateColumn(start)
-
-        class RateColumn(ProgressColumn):
-            def render(self, task: Any) -> Text:
-                return Text(rate.text(task.completed, task.total), style="progress.remaining")
-
-        self.p = Progress(
-            TextColumn(f"[bold]{label}"),
-            BarColumn(),
-            MofNCompleteColumn(),
-            TextColumn("steps"),
-            TimeElapsedColumn(),
-            RateColumn(),
-        )
-        self.task = self.p.add_task(label, total=total, completed=start)
-
-    def __enter__(self) -> _RichBar:
-        self.p.__enter__()
-        return self
-
-    def __exit__(self, *a: Any) -> None:
-        self.p.__exit__(*a)
-
-    def update(self, step: int) -> None:
-        self.p.update(self.task, completed=step)
-
-
-def _progress(off: bool, total: int, start: int, label: str) -> _NoBar | _RichBar:
-    return _NoBar() if off else _RichBar(total, start, label)
+class Simulation(SimulationSetup, RunLoop):
+    """A deck turned into objects (:meth:`SimulationSetup.from_deck`), ready to
+    :meth:`~RunLoop.run`."""

@@ -1,0 +1,180 @@
+"""Material, damage, contact and the evaluator of a single-body deck.
+
+:func:`build_material` builds the deck's material through :data:`MATERIAL_BUILDERS`
+(keyed by ``material.model``, each calling its family's class in
+:data:`peridynamics.materials.MATERIALS`); :func:`build_damage` the damage law;
+:func:`build_model` the evaluator with loads, viscosity, softening and contact.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from peridynamics.bonds.bonds import Bonds
+from peridynamics.build.errors import SetupError
+from peridynamics.damage import NO_DAMAGE, CriticalStretch, SEDSoftening, WeibullField
+from peridynamics.geometry import PointCloud
+from peridynamics import deck as dk
+from peridynamics.materials import MATERIALS
+from peridynamics.materials.viscosity import BondViscosity
+from peridynamics.model import Model
+
+
+def _bond_based(m: Any) -> Any:
+    return MATERIALS[m.model](m.youngs_modulus, m.density, m.micromodulus_profile, m.micromodulus)
+
+
+def _lps(m: Any) -> Any:
+    return MATERIALS["lps"](m.youngs_modulus, m.poisson_ratio, m.density, m.influence)
+
+
+def _correspondence(m: Any) -> Any:
+    return MATERIALS["correspondence"](
+        m.youngs_modulus,
+        m.poisson_ratio,
+        m.density,
+        m.stabilization,
+        0.1 if m.stabilization_g is None else m.stabilization_g,
+        m.law,
+    )
+
+
+def _micropolar(m: Any) -> Any:
+    return MATERIALS["micropolar"](
+        m.youngs_modulus, m.poisson_ratio, m.density, m.rotational_stiffness_ratio
+    )
+
+
+#: ``material.model`` -> builder(section) -> material
+MATERIAL_BUILDERS: dict[str, Callable[[Any], Any]] = {
+    "pmb": _bond_based,
+    "bond_based": _bond_based,
+    "lps": _lps,
+    "correspondence": _correspondence,
+    "micropolar": _micropolar,
+}
+
+
+def build_material(m: Any) -> Any:
+    """The deck's material section -> a material of its model family (registry
+    :data:`MATERIAL_BUILDERS`, keyed by ``material.model``)."""
+    try:
+        return MATERIAL_BUILDERS[m.model](m)
+    except ValueError as exc:
+        raise SetupError("material", str(exc)) from None
+
+
+def build_damage(dmg: dk.Damage, m: Any, material: Any, cloud: PointCloud, bonds: Bonds) -> Any:
+    """The damage object given to :class:`Model` for the deck's ``damage`` section.
+
+    Parameters
+    ----------
+    dmg : Damage
+        The validated ``damage`` section.
+    m : material spec of the deck (selects the correspondence failure law).
+    material : the material object built from ``m`` (calibrates s0 from G0).
+    cloud : PointCloud
+        Points of the body (node sets of ``no_fail``, dimension, cross-section).
+    bonds : Bonds
+        Its bonds (the horizon).
+
+    Returns
+    -------
+    ``NO_DAMAGE``, :class:`CriticalStretch`, ``CorrespondenceFailure`` or
+    :class:`~peridynamics.damage.bond_softening.SofteningBonds`. Raises SetupError when
+    a softening law has no tail at this horizon.
+    """
+    if dmg.model == "none":
+        return NO_DAMAGE
+    no_fail = (
+        np.unique(np.concatenate([cloud.node_set(n) for n in dmg.no_fail])) if dmg.no_fail else None
+    )
+    if dmg.bond_law != "brittle":  # tension softening (validated: f_t and G0 given)
+        from peridynamics.damage.bond_softening import SofteningBonds
+
+        assert dmg.tensile_strength is not None and dmg.fracture_energy is not None
+        knee = dmg.trilinear_knee
+        soft = SofteningBonds(
+            dmg.bond_law,
+            dmg.tensile_strength,
+            dmg.fracture_energy,
+            None if knee is None else (float(knee[0]), float(knee[1])),
+            no_fail,
+        )
+        try:  # the envelope needs s_c > s0 at this horizon: say so before the run
+            soft.envelope(material, cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane)
+        except ValueError as exc:
+            raise SetupError("damage.tensile_strength", str(exc)) from None
+        return soft
+    s0 = dmg.critical_stretch
+    if dmg.model == "principal_stress":
+        s0 = math.inf
+    elif s0 is None:
+        assert dmg.fracture_energy is not None
+        s0 = material.critical_stretch(
+            dmg.fracture_energy, cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
+        )
+    w = dmg.weibull
+    weibull = None if w is None else WeibullField(w.shape, w.seed, w.variable, w.u0_is)
+    damage: Any = CriticalStretch(s0, no_fail, weibull)
+    if m.model == "correspondence":
+        from peridynamics.damage.principal_stress import CorrespondenceFailure
+
+        f_t = dmg.tensile_strength
+        damage = CorrespondenceFailure(damage, math.inf if f_t is None else f_t)
+    return damage
+
+
+def build_model(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, body: list) -> Model:
+    """Material + damage + loads -> Model."""
+    material = build_material(deck.material)
+    m = deck.material
+    dmg = deck.damage
+    damage = build_damage(dmg, m, material, cloud, bonds)
+    sed = dmg.sed_softening
+    softening = (
+        None
+        if sed is None
+        else SEDSoftening(sed.levels, sed.k_c, sed.residual, sed.threshold_stretch, sed.energy)
+    )
+    contact = build_contact(deck, cloud, bonds, material)
+    visc = getattr(m, "viscosity", None)
+    return Model(
+        cloud,
+        bonds,
+        material,
+        damage,
+        body,
+        surface_correction=deck.discretisation.surface_correction,
+        viscosity=None if visc is None else BondViscosity(visc.linear, visc.quadratic),
+        softening=softening,
+        contact=contact,
+        damping=getattr(deck.solver, "damping", 0.0),
+    )
+
+
+def build_contact(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, material: Any) -> Any:
+    """Short-range contact between points not joined by an intact bond (``None`` without a
+    ``contact`` section); its stiffness from the PMB micromodulus of ``material``'s E."""
+    if deck.contact is None:
+        return None
+    from peridynamics.contact import ShortRangeContact
+
+    c0 = material.micromodulus_constant(cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane)
+    d_c = deck.contact.distance_factor * cloud.spacing
+    return ShortRangeContact(
+        cloud.x,
+        cloud.volume,
+        bonds,
+        contact_distance=d_c,
+        stiffness=ShortRangeContact.parks_stiffness(
+            c0, d_c, bonds.horizon, deck.contact.stiffness_factor
+        ),
+        friction_static=deck.contact.friction_static,
+        friction_kinetic=deck.contact.friction_kinetic,
+        global_ids=cloud.global_ids,
+    )

@@ -1,0 +1,113 @@
+"""A deck turned into the objects of a run: :class:`SimulationSetup`.
+
+``SimulationSetup.from_deck(deck)`` builds geometry -> bonds -> model -> solver (one
+rank's part of the body under MPI); the run loop
+(:class:`peridynamics.app.run.Simulation`) steps what it built.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Self
+
+from peridynamics.build.bodies import (
+    body_layout,
+    build_bodies_model,
+    build_rigid_system,
+    has_bodies,
+)
+from peridynamics.build.cloud import build_bonds_for, build_cloud
+from peridynamics.build.errors import SetupError
+from peridynamics.build.loads import build_conditions
+from peridynamics.build.materials import build_contact, build_material, build_model
+from peridynamics.build.solvers import build_solver
+from peridynamics.geometry import PointCloud
+from peridynamics import deck as dk
+from peridynamics.materials import MATERIALS
+from peridynamics.model import Model
+from peridynamics.solvers.base import Solver
+from peridynamics.solvers.fdm import FDMModel1D
+
+
+@dataclass
+class SimulationSetup:
+    """A deck turned into objects, ready to run."""
+
+    deck: dk.Deck
+    cloud: PointCloud
+    model: Model
+    solver: Solver
+    setup_s: float = 0.0
+    #: a decomposed run (``mpiexec -n N``): the collective side (None when serial)
+    session: Any = None
+    #: a decomposed run: the whole body (``cloud`` is this rank's part)
+    global_cloud: PointCloud | None = None
+
+    @classmethod
+    def from_deck(cls, deck: dk.Deck, comm: Any = None) -> Self:
+        """Build geometry -> bonds -> model -> solver. Raises SetupError / DeckError.
+
+        ``comm``: an mpi4py communicator of more than one rank decomposes the body over
+        its ranks (:mod:`peridynamics.parallel`); every rank calls this."""
+        t0 = time.perf_counter()
+        if comm is not None and comm.Get_size() > 1:
+            from peridynamics.build.decomposed import build_distributed
+            from peridynamics.parallel.session import Session
+
+            parts = build_distributed(deck, comm)
+            session = Session(parts["communicator"], parts["model"], parts["global_cloud"])
+            return cls(
+                deck, parts["cloud"], parts["model"], parts["solver"],
+                setup_s=time.perf_counter() - t0, session=session,
+                global_cloud=parts["global_cloud"],
+            )  # fmt: skip
+        cloud = build_cloud(deck)
+        bonds = build_bonds_for(deck, cloud)
+        body, kin, init = build_conditions(deck, cloud)
+        s = deck.solver
+        if isinstance(s, dk.Solver) and s.method == "fdm":
+            m = deck.material
+            assert isinstance(m, dk.Material)
+            material = MATERIALS[m.model](m.youngs_modulus, m.density, m.micromodulus_profile)
+            model: Model = FDMModel1D(cloud, material, body)
+        elif has_bodies(deck):
+            layout = body_layout(deck, cloud)
+            contact = build_contact(deck, cloud, bonds, build_material(deck.material))
+            model = build_bodies_model(deck, cloud, bonds, layout, body, contact)
+        else:
+            model = build_model(deck, cloud, bonds, body)
+        if deck.rigid_bodies:
+            if not isinstance(s, dk.Solver) or s.hybrid is not None or s.method == "fdm":
+                raise SetupError(
+                    "rigid_bodies",
+                    "rigid bodies move in explicit dynamics (solver.type explicit, no "
+                    "hybrid or fdm method); for a quasi-static test load slowly with "
+                    "solver.damping",
+                )
+            c0 = model.material.micromodulus_constant(
+                cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
+            )
+            model.rigid = build_rigid_system(deck, cloud, model.density, c0, bonds.horizon)
+        solver = build_solver(deck, cloud, model, body, kin, init)
+        return cls(deck, cloud, model, solver, setup_s=time.perf_counter() - t0)
+
+    @property
+    def n_steps(self) -> int:
+        """Total number of steps of the run."""
+        return self.solver.total_steps()
+
+    def fingerprint(self) -> str:
+        """Hash of the validated deck, the package version and (for mesh geometries) the
+        mesh file: a checkpoint only resumes the same problem with the same code."""
+        from peridynamics import __version__
+
+        text = json.dumps(self.deck.model_dump(mode="json", by_alias=True), sort_keys=True)
+        h = hashlib.sha256(text.encode())
+        h.update(__version__.encode())
+        if self.deck.geometry.type == "mesh":
+            h.update(Path(self.deck.geometry.file).read_bytes())
+        return h.hexdigest()

@@ -1,0 +1,119 @@
+"""Crack outputs that need no damage threshold: the crack length (2-D) or area (3-D) of
+the bonds broken during the run (:mod:`peridynamics.analysis.crack_length`), as a
+history, in total and per tracked crack."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from peridynamics.analysis.crack_length import CrackMeter, attribute_to_polylines
+from peridynamics.io.observers.base import Observer, RunContext, RunOptions
+from peridynamics.io.observers.crack_bonds import (
+    all_intact,
+    build_meter,
+    crack_measure,
+    crack_weights,
+)
+from peridynamics.io.observers.crack_paths import CrackPaths
+from peridynamics.solvers.base import StepResult
+from peridynamics.state import State
+
+if TYPE_CHECKING:
+    from peridynamics.model import Model
+
+
+class CrackLength(Observer):
+    """Crack length (2-D, m) or area (3-D, m^2) from the bonds broken during the run, at
+    every history record and at the end; per tracked crack (``output.crack_paths``,
+    ``output.crack_tip``) at the end. Keys: docs/output.md."""
+
+    def __init__(self, run: RunOptions, model: Model) -> None:
+        self.run, self.model = run, model
+        self.dim = model.dim
+        # result keys: crack_length_m ... in 2-D, crack_area_m2 ... in 3-D
+        what, unit = ("length", "m") if self.dim == 2 else ("area", "m2")
+        self.keys = {
+            "total": f"crack_{what}_{unit}",
+            "history": f"crack_{what}_history_{unit}",
+            "all": f"crack_{what}_all_bonds_{unit}",
+            "rest": f"crack_{what}_unattributed_{unit}",
+            "per_crack": f"broken_bond_{what}_{unit}",
+        }
+        self.meter: CrackMeter | None = None
+        self._last: tuple[int, float] | None = None  # (bonds_broken, value) of the last record
+
+    def _meter(self) -> CrackMeter:
+        if self.meter is None:
+            self.meter = build_meter(self.model)
+        return self.meter
+
+    def value(self, s: State, session: Any = None) -> float:
+        """Crack length (area) of ``s``: reused while no further bond broke (``session``:
+        of a decomposed run, whose ranks measure their own bonds)."""
+        if self._last is not None and self._last[0] == s.bonds_broken:
+            return self._last[1]
+        if session is not None:  # every rank its bonds
+            v = crack_measure(session)
+        else:
+            v = self._meter().measure(all_intact(self.model, s))
+        self._last = (s.bonds_broken, v)
+        return v
+
+    def on_start(self, ctx: RunContext, s: State, resumed: bool) -> None:
+        ctx.records.setdefault(self.keys["history"], [])
+        if not resumed:
+            self.record(ctx, s)
+
+    def on_step(self, ctx: RunContext, s: State, result: StepResult) -> None:
+        if ctx.history_due(s):
+            self.record(ctx, s)
+
+    def record(self, ctx: RunContext, s: State) -> None:
+        """Append the crack length (area) at this state."""
+        ctx.records[self.keys["history"]].append(self.value(s, ctx.session))
+
+    def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
+        m, keys = self.model, self.keys
+        if ctx.session is not None:  # a decomposed run
+            mid, w = crack_weights(ctx.session)
+            results[keys["all"]] = crack_measure(ctx.session, separating=False)
+        else:
+            meter = self._meter()
+            intact = all_intact(m, s)
+            idx, w = meter.weights(intact)
+            results[keys["all"]] = meter.measure(intact, separating=False)
+            mid = meter.midpoints(idx)
+        results[keys["total"]] = float(w.sum())
+        results[keys["history"]] = list(ctx.records.get(keys["history"], []))
+        horizon = m.bonds.horizon
+        o = self.run.output
+        if o.crack_paths and isinstance(results.get("crack_paths"), dict):
+            paths = CrackPaths(self.run, m).paths(ctx, s)
+            lines = {n: list(p.branches) or [p.vertices] for n, p in paths.items()}
+            share, rest = attribute_to_polylines(mid, w, lines, 2.0 * horizon)
+            for name, v in share.items():
+                if name in results["crack_paths"]:
+                    results["crack_paths"][name][keys["per_crack"]] = v
+            results[keys["rest"]] = rest
+        ct = o.crack_tip
+        if ct is not None and self.dim == 2:
+            if ct.direction is None:
+                ahead = np.ones(w.size, dtype=bool)
+            else:
+                d = np.asarray(ct.direction, dtype=float)
+                d = d / np.linalg.norm(d)
+                ahead = (mid - np.asarray(ct.origin, dtype=float)) @ d >= -horizon
+            results["crack_tip_broken_bond_length_m"] = float(w[ahead].sum())
+        return []
+
+
+def crack_length_observers(run: RunOptions, model: Model) -> list[Observer]:
+    """The observers of this module a run gets: :class:`CrackLength` in 2-D and 3-D when
+    bonds can break and ``output.crack_length`` is on."""
+    if model.dim < 2 or not getattr(run.output, "crack_length", True):
+        return []
+    if not run.can_break:
+        return []
+    return [CrackLength(run, model)]
