@@ -38,7 +38,7 @@ from peridynamics.state import State
 
 if TYPE_CHECKING:
     from peridynamics.geometry import PointCloud
-    from peridynamics.model import Model
+    from peridynamics.evaluation import Model
 
 
 class RunLoop:

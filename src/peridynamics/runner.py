@@ -43,9 +43,9 @@ from peridynamics.io import deck as dk
 from peridynamics.io.regions import to_region
 from peridynamics.loading import conditions as bc
 from peridynamics.loading import time_functions as tf
-from peridynamics.materials import MATERIALS
-from peridynamics.materials.viscosity import BondViscosity
-from peridynamics.model import Model
+from peridynamics.families.registry import MATERIALS
+from peridynamics.families.viscosity import BondViscosity
+from peridynamics.evaluation import Model
 from peridynamics.run_loop import RunInterrupted as RunInterrupted  # re-exported
 from peridynamics.run_loop import RunLoop
 from peridynamics.run_loop import _RateColumn as _RateColumn  # noqa: F401  (tests)
@@ -329,7 +329,7 @@ def _set_precision(model: Model, precision: str) -> None:
     """``solver.precision: float32``: the PMB force pass with critical-stretch damage in
     float32 (:meth:`PMBForceModel.set_precision`); other models are refused by name."""
     from peridynamics.damage.critical_stretch import CriticalStretchLaw
-    from peridynamics.models.pmb import PMBForceModel
+    from peridynamics.families.pmb.force import PMBForceModel
 
     fm = model.force_model
     why = ""
@@ -534,7 +534,7 @@ def build_bonds_for(deck: dk.Deck, cloud: PointCloud) -> Bonds:
 
 def build_material(m: Any) -> Any:
     """The deck's material section -> a material of its model family (registry
-    :data:`peridynamics.materials.MATERIALS`, keyed by ``material.model``)."""
+    :data:`peridynamics.families.registry.MATERIALS`, keyed by ``material.model``)."""
     try:
         if isinstance(m, dk.LPSMaterialSpec):
             return MATERIALS["lps"](m.youngs_modulus, m.poisson_ratio, m.density, m.influence)
@@ -585,6 +585,7 @@ def build_damage(dmg: dk.Damage, m: Any, material: Any, cloud: PointCloud, bonds
     )
     if dmg.bond_law != "brittle":  # tension softening (validated: f_t and G0 given)
         from peridynamics.damage.bond_softening import SofteningBonds
+        from peridynamics.families.pmb_softening.envelope import softening_envelope
 
         assert dmg.tensile_strength is not None and dmg.fracture_energy is not None
         knee = dmg.trilinear_knee
@@ -596,7 +597,9 @@ def build_damage(dmg: dk.Damage, m: Any, material: Any, cloud: PointCloud, bonds
             no_fail,
         )
         try:  # the envelope needs s_c > s0 at this horizon: say so before the run
-            soft.envelope(material, cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane)
+            softening_envelope(
+                soft, material, cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
+            )
         except ValueError as exc:
             raise SetupError("damage.tensile_strength", str(exc)) from None
         return soft
@@ -652,7 +655,7 @@ def build_contact(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, material: Any)
     ``contact`` section); its stiffness from the PMB micromodulus of ``material``'s E."""
     if deck.contact is None:
         return None
-    from peridynamics.contact import ShortRangeContact
+    from peridynamics.evaluation.short_range_contact import ShortRangeContact
 
     c0 = material.micromodulus_constant(cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane)
     d_c = deck.contact.distance_factor * cloud.spacing

@@ -23,7 +23,7 @@ from peridynamics.loading import (
     Ramp,
 )
 from peridynamics.loading.conditions import Kinematic
-from peridynamics.models.pmb_tangent import pmb_tangent
+from peridynamics.families.pmb.tangent import pmb_tangent
 from peridynamics.solvers.adr import ADRSolver, adr_norms, adr_update
 from peridynamics.solvers.explicit import SimulationUnstable
 

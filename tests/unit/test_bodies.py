@@ -14,7 +14,7 @@ from peridynamics.bodies.interface import InterfaceBonds
 from peridynamics.damage import CriticalStretch
 from peridynamics.geometry import rectangle
 from peridynamics.io import deck as dk
-from peridynamics.materials import MATERIALS
+from peridynamics.families.registry import MATERIALS
 from peridynamics.runner import SetupError, Simulation
 from peridynamics.solvers.explicit import ExplicitSolver
 

@@ -11,8 +11,8 @@ import pytest
 from peridynamics.bonds import build_bonds
 from peridynamics.geometry import bar, box, rectangle
 from peridynamics.kernels import bond_based as bb
-from peridynamics.materials import BondBasedMaterial
-from peridynamics.model import Model
+from peridynamics.families.pmb import BondBasedMaterial
+from peridynamics.evaluation import Model
 
 
 def _fresh(kernel):

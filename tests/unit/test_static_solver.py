@@ -29,10 +29,10 @@ from peridynamics.damage.critical_stretch import CriticalStretch
 from peridynamics.geometry.generators import rectangle
 from peridynamics.io.deck import DeckError, parse_deck
 from peridynamics.loading.conditions import BodyForce, Fixed, PrescribedDisplacement
-from peridynamics.materials.bond_based import BondBasedMaterial
-from peridynamics.materials.lps import LPSMaterial
-from peridynamics.materials.micropolar import MicropolarMaterial
-from peridynamics.model import Model
+from peridynamics.families.pmb.material import BondBasedMaterial
+from peridynamics.families.lps.material import LPSMaterial
+from peridynamics.families.micropolar.material import MicropolarMaterial
+from peridynamics.evaluation import Model
 from peridynamics.runner import SetupError, Simulation
 from peridynamics.solvers.newton import StaticSolver
 from peridynamics.solvers.static import solve_linear_static

@@ -15,7 +15,7 @@ from peridynamics.damage import CriticalStretch, SEDSoftening  # noqa: E402
 from peridynamics.geometry import bar, box, rectangle  # noqa: E402
 from peridynamics.kernels import reference  # noqa: E402
 from peridynamics.kernels.viscous import add_viscous_force  # noqa: E402
-from peridynamics.materials.viscosity import BondViscosity  # noqa: E402
+from peridynamics.families.viscosity import BondViscosity  # noqa: E402
 
 DEVICE = "cpu"
 E, RHO = 193e9, 8027.0

@@ -15,8 +15,8 @@ import pytest
 
 from peridynamics.bonds import build_bonds
 from peridynamics.geometry import bar, rectangle
-from peridynamics.materials import BondBasedMaterial
-from peridynamics.model import Model
+from peridynamics.families.pmb import BondBasedMaterial
+from peridynamics.evaluation import Model
 
 E = 70e9
 

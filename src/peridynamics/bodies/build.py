@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 from peridynamics.bodies.interface import InterfaceBonds, interface_pairs
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.geometry.cloud import PointCloud
-from peridynamics.materials.bond_based import BondBasedMaterial
+from peridynamics.families.pmb.material import BondBasedMaterial
 
 
 @dataclass(frozen=True)

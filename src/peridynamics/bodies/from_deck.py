@@ -29,7 +29,7 @@ from peridynamics.geometry.cloud import PointCloud
 from peridynamics.io import deck as dk
 
 if TYPE_CHECKING:
-    from peridynamics.model import Model
+    from peridynamics.evaluation import Model
 
 
 def has_bodies(deck: dk.Deck) -> bool:
@@ -85,7 +85,7 @@ def build_bodies_model(
     contact: Any,
 ) -> Model:
     """The evaluator of a deck with several deformable bodies (see module docstring)."""
-    from peridynamics.model import Model
+    from peridynamics.evaluation import Model
     from peridynamics.runner import SetupError, build_damage, build_material
 
     if deck.damage.sed_softening is not None or any(
@@ -194,7 +194,7 @@ def build_rigid_system(
     if not deck.rigid_bodies:
         return None
     from peridynamics.bodies.rigid_contact import contact_for_shape, shape_of
-    from peridynamics.contact import ShortRangeContact
+    from peridynamics.evaluation.short_range_contact import ShortRangeContact
     from peridynamics.runner import SetupError, geometry_cloud, time_function
 
     con = deck.contact or dk.Contact()

@@ -1000,7 +1000,7 @@ def _notch_errors(deck: Deck) -> list[tuple[str, str]]:
 
 def cross_check(deck: Deck) -> list[tuple[str, str]]:
     """Checks that need several sections: dimensions, node-set names, Poisson ratio."""
-    from peridynamics.materials.bond_based import fixed_poisson_ratio
+    from peridynamics.families.pmb.material import fixed_poisson_ratio
 
     errors: list[tuple[str, str]] = []
     dim = deck.dim
@@ -1283,7 +1283,7 @@ def derived_errors(deck: Deck) -> list[tuple[str, str]]:
         return errors
     if not isinstance(m, Material):
         return errors
-    from peridynamics.materials.bond_based import BondBasedMaterial
+    from peridynamics.families.pmb.material import BondBasedMaterial
 
     g, dim = deck.geometry, deck.dim
     plane = getattr(g, "plane", None) if dim == 2 else None

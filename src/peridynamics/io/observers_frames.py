@@ -32,7 +32,7 @@ from peridynamics.solvers.base import StepResult
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.model import Model
+    from peridynamics.evaluation import Model
 
 
 def frame_fields(deck: dk.Deck, s: State, damage: NDArray) -> dict[str, NDArray]:

@@ -22,7 +22,7 @@ from peridynamics.loading.conditions import (
     PrescribedDisplacement,
     PrescribedVelocity,
 )
-from peridynamics.model import Model
+from peridynamics.evaluation import Model
 from peridynamics.solvers.base import StepResult
 from peridynamics.state import State
 
@@ -59,7 +59,7 @@ class UnstableTimeStep(ValueError):
 
 @dataclass
 class ExplicitSolver:
-    """Explicit time integration of a :class:`~peridynamics.model.Model`.
+    """Explicit time integration of a :class:`~peridynamics.evaluation.Model`.
 
     Parameters
     ----------

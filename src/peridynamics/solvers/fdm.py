@@ -25,9 +25,9 @@ from peridynamics.damage import NO_DAMAGE
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels.fdm import fdm_force_1d
 from peridynamics.loading.conditions import BodyForce
-from peridynamics.materials.bond_based import BondBasedMaterial
-from peridynamics.model import Model
-from peridynamics.models.pmb import PMBForceModel
+from peridynamics.families.pmb.material import BondBasedMaterial
+from peridynamics.evaluation import Model
+from peridynamics.families.pmb.force import PMBForceModel
 from peridynamics.state import State
 
 
