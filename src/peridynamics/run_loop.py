@@ -37,8 +37,8 @@ from peridynamics.solvers.hybrid import HybridSolver
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.geometry import PointCloud
     from peridynamics.evaluation import Model
+    from peridynamics.geometry import PointCloud
 
 
 class RunLoop:

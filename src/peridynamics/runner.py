@@ -29,6 +29,9 @@ from peridynamics.bodies.from_deck import (
 from peridynamics.bonds import build_bonds, make_crack
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.damage import NO_DAMAGE, CriticalStretch, SEDSoftening, WeibullField
+from peridynamics.evaluation import Model
+from peridynamics.families.registry import MATERIALS
+from peridynamics.families.viscosity import BondViscosity
 from peridynamics.geometry import (
     Notch,
     PointCloud,
@@ -43,9 +46,6 @@ from peridynamics.io import deck as dk
 from peridynamics.io.regions import to_region
 from peridynamics.loading import conditions as bc
 from peridynamics.loading import time_functions as tf
-from peridynamics.families.registry import MATERIALS
-from peridynamics.families.viscosity import BondViscosity
-from peridynamics.evaluation import Model
 from peridynamics.run_loop import RunInterrupted as RunInterrupted  # re-exported
 from peridynamics.run_loop import RunLoop
 from peridynamics.run_loop import _RateColumn as _RateColumn  # noqa: F401  (tests)

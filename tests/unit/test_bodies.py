@@ -12,9 +12,9 @@ from peridynamics.bodies.build import select_bonds
 from peridynamics.bodies.composite import BodiesDamage, BodiesMaterial, BodyPart
 from peridynamics.bodies.interface import InterfaceBonds
 from peridynamics.damage import CriticalStretch
+from peridynamics.families.registry import MATERIALS
 from peridynamics.geometry import rectangle
 from peridynamics.io import deck as dk
-from peridynamics.families.registry import MATERIALS
 from peridynamics.runner import SetupError, Simulation
 from peridynamics.solvers.explicit import ExplicitSolver
 

@@ -1,4 +1,5 @@
-"""Short-range contact (peridynamics.evaluation.short_range_contact): Numba kernels == brute-force NumPy twin,
+"""Short-range contact (peridynamics.evaluation.short_range_contact): Numba kernels ==
+brute-force NumPy twin,
 force == -grad(energy), intact-bond exclusion, momentum conservation, Verlet-list
 rebuilds (also with far-away points) and a 2-D collision of two elastic blocks. The
 friction is tested in test_contact_friction.py."""

@@ -1,4 +1,5 @@
-"""Coulomb friction in the short-range pair contact (peridynamics.evaluation.short_range_contact): Numba ==
+"""Coulomb friction in the short-range pair contact
+(peridynamics.evaluation.short_range_contact): Numba ==
 brute-force NumPy twin, linear momentum, friction power == work of the friction forces,
 stick and slide of one pair, one stopping force shared by several contacts, and the
 frictionless path unchanged bit for bit."""

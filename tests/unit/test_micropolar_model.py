@@ -1,6 +1,7 @@
 """2-D micropolar bond-based model: springs, kernels, energy, tangent, assembly, dynamics.
 
-Checks :mod:`peridynamics.families.micropolar.material`, :mod:`peridynamics.families.micropolar.force`,
+Checks :mod:`peridynamics.families.micropolar.material`,
+:mod:`peridynamics.families.micropolar.force`,
 the Numba kernels against their NumPy twins, and the two tangent assemblies of
 :mod:`peridynamics.families.assembly`. All models are small (at most 256 points).
 """
@@ -14,11 +15,11 @@ import pytest
 import scipy.linalg as la
 
 from peridynamics.bonds.bonds import build_bonds
-from peridynamics.geometry.generators import bar, box, rectangle
-from peridynamics.kernels import reference_micropolar as ref
-from peridynamics.families.micropolar.material import MicropolarMaterial
 from peridynamics.evaluation import Model
 from peridynamics.families.assembly import element_assembly
+from peridynamics.families.micropolar.material import MicropolarMaterial
+from peridynamics.geometry.generators import bar, box, rectangle
+from peridynamics.kernels import reference_micropolar as ref
 
 E, NU, RHO = 200e9, 0.2, 7800.0
 DX = 0.01

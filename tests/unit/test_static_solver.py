@@ -26,13 +26,13 @@ from peridynamics.analysis.beams import timoshenko_goodier_tip_deflection
 from peridynamics.bonds.bonds import build_bonds
 from peridynamics.bonds.precrack import make_crack
 from peridynamics.damage.critical_stretch import CriticalStretch
+from peridynamics.evaluation import Model
+from peridynamics.families.lps.material import LPSMaterial
+from peridynamics.families.micropolar.material import MicropolarMaterial
+from peridynamics.families.pmb.material import BondBasedMaterial
 from peridynamics.geometry.generators import rectangle
 from peridynamics.io.deck import DeckError, parse_deck
 from peridynamics.loading.conditions import BodyForce, Fixed, PrescribedDisplacement
-from peridynamics.families.pmb.material import BondBasedMaterial
-from peridynamics.families.lps.material import LPSMaterial
-from peridynamics.families.micropolar.material import MicropolarMaterial
-from peridynamics.evaluation import Model
 from peridynamics.runner import SetupError, Simulation
 from peridynamics.solvers.newton import StaticSolver
 from peridynamics.solvers.static import solve_linear_static

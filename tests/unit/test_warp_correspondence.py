@@ -19,11 +19,11 @@ from peridynamics.backends.warp_device import DeviceModel, DeviceState  # noqa: 
 from peridynamics.bonds.bonds import build_bonds  # noqa: E402
 from peridynamics.damage.critical_stretch import CriticalStretch  # noqa: E402
 from peridynamics.damage.principal_stress import CorrespondenceFailure  # noqa: E402
-from peridynamics.geometry.generators import box, rectangle  # noqa: E402
-from peridynamics.kernels import reference_correspondence as ref  # noqa: E402
-from peridynamics.families.correspondence.material import CorrespondenceMaterial  # noqa: E402
 from peridynamics.evaluation import Model  # noqa: E402
 from peridynamics.families.correspondence.force import DEGENERATE_RATIO  # noqa: E402
+from peridynamics.families.correspondence.material import CorrespondenceMaterial  # noqa: E402
+from peridynamics.geometry.generators import box, rectangle  # noqa: E402
+from peridynamics.kernels import reference_correspondence as ref  # noqa: E402
 
 STABS = ("none", "silling2017", "lbscmm")
 DX = 1e-3

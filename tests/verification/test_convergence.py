@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 
 from peridynamics.bonds import build_bonds
-from peridynamics.geometry import bar, rectangle
-from peridynamics.families.pmb import BondBasedMaterial
 from peridynamics.evaluation import Model
+from peridynamics.families.pmb import BondBasedMaterial
+from peridynamics.geometry import bar, rectangle
 
 E = 70e9
 

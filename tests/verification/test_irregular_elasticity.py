@@ -30,8 +30,8 @@ from scipy.spatial import Delaunay
 from peridynamics import BondBasedMaterial, Model, build_bonds
 from peridynamics.bonds.surface import energy_correction_factors, moment_correction_factors
 from peridynamics.families.calibration import calibrate_influence
-from peridynamics.geometry import PointCloud, box, from_mesh, rectangle
 from peridynamics.families.lps.material import LPSMaterial
+from peridynamics.geometry import PointCloud, box, from_mesh, rectangle
 
 E, RHO, DX, M = 70e9, 2700.0, 1e-3, 3.015
 SIGMA = 1e6

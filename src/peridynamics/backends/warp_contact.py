@@ -1,4 +1,5 @@
-"""Short-range contact on the Warp device: :class:`~peridynamics.evaluation.short_range_contact.ShortRangeContact`
+"""Short-range contact on the Warp device:
+:class:`~peridynamics.evaluation.short_range_contact.ShortRangeContact`
 as a :class:`~peridynamics.backends.warp_device.DeviceExtra`.
 
 The host's design, kept on the device: a directed CSR Verlet list of the pairs closer

@@ -378,9 +378,7 @@ class CompositeDamageLaw(DamageLaw):
     def bind(self, force_model: ForceModel) -> None:
         """Bind each body's law to its body's force model (laws that read stresses)."""
         for law, m in zip(self.laws, self.model.models, strict=True):
-            bind = getattr(law, "bind", None)
-            if bind is not None:
-                bind(m)
+            law.bind(m)
 
     def trial(self, state: State) -> int:
         n = 0

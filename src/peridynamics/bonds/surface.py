@@ -23,11 +23,11 @@ both within about 1 % (docs/theory_bond_based.md, "Irregular point clouds").
 
 from __future__ import annotations
 
-import numpy as np
-from numpy.typing import NDArray
-
 from collections.abc import Callable
 from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds, setup_chunk_bonds
 from peridynamics.bonds.search import bond_chunks

@@ -41,6 +41,7 @@ class StressModel(Protocol):
         self, intact: NDArray[np.uint8], det: NDArray[np.float64]
     ) -> NDArray[np.bool_]: ...
 
+
 #: rounds of degenerate-family propagation per proposal (each round breaks the bonds of
 #: the points that the previous round made degenerate)
 _DEGENERATE_ROUNDS = 8

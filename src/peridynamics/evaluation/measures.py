@@ -39,17 +39,38 @@ class Measures:
     density: NDArray[np.float64]
     _viscous: tuple[float, float] | None
 
-    # provided by the model (:mod:`peridynamics.evaluation.model`)
-    dim: int
-    n_points: int
-    inv_length: NDArray[np.float64]
-    stiffness: NDArray[np.float64]
+    def _add_force_model_fields(self, s: State) -> None:
+        raise NotImplementedError  # the model's (:mod:`peridynamics.evaluation.model`)
+
+    @property
+    def dim(self) -> int:
+        """Spatial dimension."""
+        return self.cloud.dim
+
+    @property
+    def inv_length(self) -> NDArray[np.float64]:
+        """1/|xi| (1/m), shape (n_bonds,), made by the bond list on first use."""
+        return self.bonds.inv_length
+
+    @property
+    def n_points(self) -> int:
+        """Number of points."""
+        return self.cloud.n_points
+
+    @property
+    def stiffness(self) -> NDArray[np.float64]:
+        """Bond stiffness (N/m^6 m^3) of a bond-based force model (raises otherwise)."""
+        k = getattr(self.force_model, "stiffness", None)
+        if k is None:
+            raise AttributeError(f"the {self.force_model.name!r} model has no bond stiffness")
+        return k
 
     def inertia(self, k: int) -> NDArray[np.float64]:
-        raise NotImplementedError
-
-    def _add_force_model_fields(self, s: State) -> None:
-        raise NotImplementedError
+        """Mass density of dof group k of the force model (kg/m^3 for displacements,
+        kg/m for rotations: rho times the model's inertia factor), shape (n,)."""
+        if k == 0:
+            return self.density
+        return self.density * self.force_model.dof_inertia(k)
 
     def viscous_power(self, u: NDArray, v: NDArray, intact: NDArray[np.uint8]) -> float:
         """Power of the viscous forces sum_i V_i F_visc_i . v_i (W); never positive. 0 for

@@ -124,9 +124,7 @@ class Model(Measures):
             if law_for is not None
             else self.damage.law(c.x, self.bonds, c.global_ids)
         )
-        bind = getattr(self.damage_law, "bind", None)
-        if bind is not None:  # a law that reads the force model (stresses, shape tensors)
-            bind(self.force_model)
+        self.damage_law.bind(self.force_model)  # a law that reads the force model
         self.time_step = 1.0  # set by an explicit solver: the friction law reads it
         self.friction_power = 0.0  # W, of the last evaluation (<= 0)
         self.density = np.full(c.n_points, self.material.density)
@@ -153,21 +151,6 @@ class Model(Measures):
             )
 
     @property
-    def dim(self) -> int:
-        """Spatial dimension."""
-        return self.cloud.dim
-
-    @property
-    def inv_length(self) -> NDArray[np.float64]:
-        """1/|xi| (1/m), shape (n_bonds,), made by the bond list on first use."""
-        return self.bonds.inv_length
-
-    @property
-    def n_points(self) -> int:
-        """Number of points."""
-        return self.cloud.n_points
-
-    @property
     def point_s0(self) -> NDArray[np.float64]:
         """Critical stretch per point (n,) of the critical-stretch law (inf: never)."""
         return self._critical_law().point_s0
@@ -191,14 +174,6 @@ class Model(Measures):
             raise AttributeError(f"the damage law {law.name!r} has no critical stretch")
         return law
 
-    @property
-    def stiffness(self) -> NDArray[np.float64]:
-        """Bond stiffness (N/m^6 m^3) of a bond-based force model (raises otherwise)."""
-        k = getattr(self.force_model, "stiffness", None)
-        if k is None:
-            raise AttributeError(f"the {self.force_model.name!r} model has no bond stiffness")
-        return k
-
     # -- state -------------------------------------------------------------------------
     def new_state(self) -> State:
         """A State at rest with every field the model needs (bonds as built, levels 0)."""
@@ -216,9 +191,7 @@ class Model(Measures):
             for name in (dof.value, dof.rate, dof.force, dof.body):
                 s[name] = np.zeros((n, dof.components))
         self._add_force_model_fields(s)
-        init = getattr(self.force_model, "init_state", None)
-        if init is not None:  # fields that do not start at zero (interface bonds)
-            init(s)
+        self.force_model.init_state(s)  # fields that do not start at zero (interface bonds)
         if self._sed is not None:
             s["sed_level"] = np.zeros(n, dtype=np.int64)
         if self.rigid is not None:
@@ -238,13 +211,6 @@ class Model(Measures):
         the last evaluation times dt, to the State field ``friction_work``."""
         if "friction_work" in state:
             state["friction_work"][0] -= self.friction_power * dt
-
-    def inertia(self, k: int) -> NDArray[np.float64]:
-        """Mass density of dof group k of the force model (kg/m^3 for displacements,
-        kg/m for rotations: rho times the model's inertia factor), shape (n,)."""
-        if k == 0:
-            return self.density
-        return self.density * self.force_model.dof_inertia(k)
 
     def _add_force_model_fields(self, s: State) -> None:
         """Allocate the fields the force model declares, sized from ``s.u`` (points) and

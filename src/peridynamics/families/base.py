@@ -191,6 +191,10 @@ class ForceModel(ABC):
     def on_restore(self, state: State) -> None:  # noqa: B027 - optional hook
         """Rebuild derived quantities after a State was read from a checkpoint."""
 
+    def init_state(self, state: State) -> None:  # noqa: B027 - optional hook
+        """Set the fields of :meth:`state_fields` that do not start at zero (default:
+        none; interface bonds of several bodies start as built)."""
+
     # -- capabilities ---------------------------------------------------------------------
     def fused_step(self, state: State, law: DamageLaw, sed: Any = None) -> FusedStep | None:
         """Explicit fast path: ``law``'s trial and commit and :meth:`force` in one pass
@@ -221,6 +225,10 @@ class DamageLaw(ABC):
     def active(self) -> bool:
         """False for a law that never breaks anything."""
         return True
+
+    def bind(self, force_model: ForceModel) -> None:  # noqa: B027 - optional hook
+        """Attach the force model the law reads (stresses, softening history); default:
+        the law reads none."""
 
     @abstractmethod
     def trial(self, state: State) -> int:

@@ -85,17 +85,30 @@ FAMILIES: dict[str, Family] = {
     "pmb": _PMB,
     "bond_based": _PMB,
     "pmb_softening": Family(
-        "pmb_softening", BondBasedMaterial, PMBSofteningForceModel, "damage.bond_law",
-        fused_step=True, builder=softening_force_model,
+        "pmb_softening",
+        BondBasedMaterial,
+        PMBSofteningForceModel,
+        "damage.bond_law",
+        fused_step=True,
+        builder=softening_force_model,
     ),  # fmt: skip
     "pmb_sed": Family(
-        "pmb_sed", BondBasedMaterial, PMBForceModel, "damage.sed_softening",
-        analytic_tangent=True, fused_step=True, warp=True,
+        "pmb_sed",
+        BondBasedMaterial,
+        PMBForceModel,
+        "damage.sed_softening",
+        analytic_tangent=True,
+        fused_step=True,
+        warp=True,
     ),  # fmt: skip
     "lps": Family("lps", LPSMaterial, LPSForceModel, analytic_tangent=True, warp=True),
     "micropolar": Family(
-        "micropolar", MicropolarMaterial, MicropolarForceModel, analytic_tangent=True,
-        mpi=False, rotations=True,
+        "micropolar",
+        MicropolarMaterial,
+        MicropolarForceModel,
+        analytic_tangent=True,
+        mpi=False,
+        rotations=True,
     ),  # fmt: skip
     "correspondence": Family(
         "correspondence", CorrespondenceMaterial, CorrespondenceForceModel, warp=True

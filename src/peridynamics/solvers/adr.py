@@ -88,8 +88,8 @@ import numpy as np
 from numba import njit, prange
 from numpy.typing import NDArray
 
-from peridynamics.loading.conditions import Kinematic, PrescribedVelocity
 from peridynamics.evaluation import Model
+from peridynamics.loading.conditions import Kinematic, PrescribedVelocity
 from peridynamics.solvers.base import StepResult
 from peridynamics.solvers.explicit import SimulationUnstable
 from peridynamics.state import State

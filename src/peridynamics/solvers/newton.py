@@ -55,9 +55,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.damage.critical_stretch import CriticalStretchLaw
+from peridynamics.evaluation import Model
 from peridynamics.loading.conditions import Fixed, Kinematic, PrescribedVelocity
 from peridynamics.loading.time_functions import Constant
-from peridynamics.evaluation import Model
 from peridynamics.solvers import linear as lin
 from peridynamics.solvers.base import StepResult
 from peridynamics.solvers.breaking import PairBreaker

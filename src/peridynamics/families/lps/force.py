@@ -18,8 +18,9 @@ Conventions
   bond, so a parallel run exchanges it (and ``LPSForceModel.weighted_volume``) for
   ghost points between the two passes.
 * Surface correction (``surface_correction=True``, the deck default): a per-point
-  calibration of the influence function, :func:`~peridynamics.families.calibration.calibrate_influence`. Under a
-  homogeneous small strain eps the energy of point i is
+  calibration of the influence function,
+  :func:`~peridynamics.families.calibration.calibrate_influence`. Under a homogeneous
+  small strain eps the energy of point i is
   ``W_i = k_theta theta_i^2 / 2 + (alpha / 2 m_i) sum_k wv_k L_k^2 (n_k . eps . n_k)^2``
   with ``theta_i = (tf / m_i) sum_k wv_k L_k^2 n_k . eps . n_k``: it depends on the
   family only through its second and fourth moments ``sum_k wv_k L_k^2 n_k^(x2)`` and
@@ -34,7 +35,8 @@ Conventions
   (i, j) by a factor ``g_ik > 0`` of its owner i, chosen so that the moments of every
   point are the continuum ones (the minimum-norm correction ``g = 1 + P_i(n)``, P_i a
   homogeneous quartic in the bond direction, then, where that leaves the bounds
-  :data:`~peridynamics.families.calibration.CALIBRATION_BOUNDS`, the bounded least change by alternating projections).
+  :data:`~peridynamics.families.calibration.CALIBRATION_BOUNDS`, the bounded least
+  change by alternating projections).
   The influence function thus becomes a per-point function of the bond direction
   (omega_ik differs from omega_jk): the point energies are those of an ordinary LPS
   with these influence functions, the force is their exact gradient
@@ -101,8 +103,9 @@ class LPSForceModel(ForceModel):
         the far point's influence function; ``omega_volume`` itself (the same array)
         without the correction.
     calibration_factor : (n_bonds,) or None
-        The factor g_k of :func:`~peridynamics.families.calibration.calibrate_influence` (``omega_ik = omega(|xi|) g_k``);
-        None without the correction.
+        The factor g_k of
+        :func:`~peridynamics.families.calibration.calibrate_influence`
+        (``omega_ik = omega(|xi|) g_k``); None without the correction.
     calibration_residual : (n_points,) or None
         Relative moment residual of every point after the calibration (0: the point
         reproduces the continuum moduli for every homogeneous strain); None without

@@ -134,7 +134,9 @@ class LPSMaterial:
     influence: Influence = "constant"
 
     def __post_init__(self) -> None:
-        moduli.check_isotropic_constants(self.youngs_modulus, self.poisson_ratio, self.density, "LPS")
+        moduli.check_isotropic_constants(
+            self.youngs_modulus, self.poisson_ratio, self.density, "LPS"
+        )
         if self.influence not in INFLUENCES:
             raise ValueError(
                 f"material.influence must be one of {INFLUENCES}, got {self.influence!r}"

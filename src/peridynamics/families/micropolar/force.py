@@ -57,6 +57,7 @@ class MicropolarConstants(Protocol):
 
     def c11(self, plane: str | None) -> float: ...
 
+
 #: the rotation degrees of freedom: theta (rad), its rate omega (rad/s), the moment
 #: density (N m/m^3) and an external body moment density (N m/m^3)
 ROTATION = Dof("theta", "omega", "moment", "body_moment", 1)
