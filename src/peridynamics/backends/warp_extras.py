@@ -4,7 +4,7 @@ strain-energy-density softening of the bond stiffness (:class:`DeviceSED`, the d
 twin of :class:`~peridynamics.families.pmb_sed.stiffness.SoftenedStiffness`).
 
 Per committing evaluation the solver runs, in the order of
-:meth:`peridynamics.evaluation.Model.evaluate`:
+:meth:`peridynamics.evaluation.model.Model.evaluate`:
 
 1. the PMB force-and-break pass reading ``DeviceSED.stiffness``;
 2. :meth:`DeviceSED.update` (energy with the initial stiffness at ``ds.u`` over the

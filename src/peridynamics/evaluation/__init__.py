@@ -1,4 +1,5 @@
-"""The evaluator: the physics order of one force evaluation (:class:`Model`, in
+"""The evaluator: the physics order of one force evaluation
+(:class:`~peridynamics.evaluation.model.Model`, exported here as ``Model``, in
 :mod:`peridynamics.evaluation.model`; what it measures: :mod:`peridynamics.evaluation.measures`)
 and short-range contact between points (:mod:`peridynamics.evaluation.short_range_contact`)."""
 

@@ -59,7 +59,7 @@ class UnstableTimeStep(ValueError):
 
 @dataclass
 class ExplicitSolver:
-    """Explicit time integration of a :class:`~peridynamics.evaluation.Model`.
+    """Explicit time integration of a :class:`~peridynamics.evaluation.model.Model`.
 
     Parameters
     ----------
