@@ -29,7 +29,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar, NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
@@ -59,9 +59,9 @@ class Dof:
     components: int
 
 
-@dataclass(frozen=True)
-class FusedStep:
-    """What a fused explicit step (:meth:`ForceModel.fused_step`) did.
+class FusedStep(NamedTuple):
+    """What a fused explicit step (:meth:`ForceModel.fused_step`) did (a named tuple:
+    cheap to make once per explicit step).
 
     Attributes
     ----------
