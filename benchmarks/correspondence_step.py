@@ -43,11 +43,11 @@ def _time(model: Any, repeat: int) -> float:
 
 def bench(dim: int, n: int, repeat: int) -> dict[str, Any]:
     from peridynamics.bonds.bonds import build_bonds
+    from peridynamics.evaluation import Model
+    from peridynamics.families.correspondence.material import CorrespondenceMaterial
+    from peridynamics.families.lps.material import LPSMaterial
+    from peridynamics.families.pmb.material import BondBasedMaterial
     from peridynamics.geometry.generators import box, rectangle
-    from peridynamics.materials.bond_based import BondBasedMaterial
-    from peridynamics.materials.correspondence import CorrespondenceMaterial
-    from peridynamics.materials.lps import LPSMaterial
-    from peridynamics.model import Model
 
     dx = 1e-3
     if dim == 2:

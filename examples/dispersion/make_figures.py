@@ -35,9 +35,9 @@ except ImportError:  # a source checkout that was not installed: use its src/ fo
 
 from peridynamics.analysis import dispersion as dsp  # noqa: E402
 from peridynamics.bonds import build_bonds  # noqa: E402
+from peridynamics.evaluation import Model  # noqa: E402
+from peridynamics.families.pmb import BondBasedMaterial  # noqa: E402
 from peridynamics.geometry import rectangle  # noqa: E402
-from peridynamics.materials import BondBasedMaterial  # noqa: E402
-from peridynamics.model import Model  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 

@@ -9,9 +9,9 @@ except PackageNotFoundError:  # running from a source tree
 
 from peridynamics.bonds import Bonds, build_bonds
 from peridynamics.damage import CriticalStretch
+from peridynamics.evaluation import Model
+from peridynamics.families.pmb import BondBasedMaterial
 from peridynamics.geometry import PointCloud
-from peridynamics.materials import BondBasedMaterial
-from peridynamics.model import Model
 from peridynamics.solvers import ExplicitSolver, State
 
 __all__ = [

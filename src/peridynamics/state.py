@@ -29,7 +29,7 @@ class State:
 
     Arrays are updated in place by the solvers for speed. Any number of fields with any
     number of components per point can be held; a model family declares the ones it
-    needs (:meth:`peridynamics.models.base.ForceModel.state_fields`). The common ones
+    needs (:meth:`peridynamics.families.base.ForceModel.state_fields`). The common ones
     have attributes:
 
     Attributes

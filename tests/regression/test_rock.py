@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from peridynamics import BondBasedMaterial, Model, build_bonds
-from peridynamics.contact import ShortRangeContact
+from peridynamics.evaluation.short_range_contact import ShortRangeContact
 from peridynamics.geometry import rectangle
 from peridynamics.geometry.regions import Box
 from peridynamics.solvers.explicit import ExplicitSolver

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from peridynamics import BondBasedMaterial, CriticalStretch, Model, build_bonds
+from peridynamics.families.pmb.tangent import pmb_tangent
 from peridynamics.geometry import box, rectangle
 from peridynamics.loading import (
     BodyForce,
@@ -23,7 +24,6 @@ from peridynamics.loading import (
     Ramp,
 )
 from peridynamics.loading.conditions import Kinematic
-from peridynamics.models.pmb_tangent import pmb_tangent
 from peridynamics.solvers.adr import ADRSolver, adr_norms, adr_update
 from peridynamics.solvers.explicit import SimulationUnstable
 

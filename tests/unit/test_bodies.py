@@ -14,9 +14,9 @@ from peridynamics.bodies.composite import BodiesDamage, BodiesMaterial, BodyPart
 from peridynamics.bodies.interface import InterfaceBonds
 from peridynamics.build.errors import SetupError
 from peridynamics.damage import CriticalStretch
+from peridynamics.families.registry import MATERIALS
 from peridynamics.geometry import rectangle
 from peridynamics import deck as dk
-from peridynamics.materials import MATERIALS
 from peridynamics.solvers.explicit import ExplicitSolver
 
 DX = 1e-3

@@ -16,6 +16,7 @@ import pytest
 
 from peridynamics import BondBasedMaterial, Model, build_bonds
 from peridynamics.damage.bond_softening import SofteningBonds
+from peridynamics.families.pmb_softening.envelope import softening_envelope
 from peridynamics.geometry import box, rectangle
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import reference_softening as ref
@@ -101,7 +102,7 @@ def test_strength_is_independent_of_the_horizon_and_g0_is_conserved(law: str) ->
     material, soft = BondBasedMaterial(E, RHO), SofteningBonds(law, FT, G0)
     s0s, sfs = [], []
     for delta in (1.5e-3, 3e-3):
-        env = soft.envelope(material, 2, delta, H, "stress")
+        env = softening_envelope(soft, material, 2, delta, H, "stress")
         s0s.append(env.s0)
         sfs.append(env.s_f)
         r, beta = KNEES[law]
@@ -119,8 +120,8 @@ def test_strength_is_independent_of_the_horizon_and_g0_is_conserved(law: str) ->
 
 def test_strength_above_what_g0_allows_is_refused_with_the_fix() -> None:
     with pytest.raises(ValueError, match="tensile_strength") as info:
-        SofteningBonds("bilinear", 30e6, 0.5).envelope(
-            BondBasedMaterial(E, RHO), 2, 3e-3, H, "stress"
+        softening_envelope(
+            SofteningBonds("bilinear", 30e6, 0.5), BondBasedMaterial(E, RHO), 2, 3e-3, H, "stress"
         )
     assert "fracture_energy" in str(info.value) and "smaller horizon" in str(info.value)
     with pytest.raises(ValueError, match="trilinear_knee"):

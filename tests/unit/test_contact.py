@@ -1,4 +1,5 @@
-"""Short-range contact (peridynamics.contact): Numba kernels == brute-force NumPy twin,
+"""Short-range contact (peridynamics.evaluation.short_range_contact): Numba kernels ==
+brute-force NumPy twin,
 force == -grad(energy), intact-bond exclusion, momentum conservation, Verlet-list
 rebuilds (also with far-away points) and a 2-D collision of two elastic blocks. The
 friction is tested in test_contact_friction.py."""
@@ -10,7 +11,7 @@ import pytest
 
 from peridynamics import BondBasedMaterial, Model, PointCloud, build_bonds
 from peridynamics.bonds.search import brute_force_pairs
-from peridynamics.contact import ShortRangeContact
+from peridynamics.evaluation.short_range_contact import ShortRangeContact
 from peridynamics.geometry import bar, box, rectangle
 from peridynamics.kernels.contact import contact_energy_reference, contact_force_reference
 

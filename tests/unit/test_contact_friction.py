@@ -1,4 +1,5 @@
-"""Coulomb friction in the short-range pair contact (peridynamics.contact): Numba ==
+"""Coulomb friction in the short-range pair contact
+(peridynamics.evaluation.short_range_contact): Numba ==
 brute-force NumPy twin, linear momentum, friction power == work of the friction forces,
 stick and slide of one pair, one stopping force shared by several contacts, and the
 frictionless path unchanged bit for bit."""
@@ -10,7 +11,7 @@ import pytest
 
 from peridynamics import PointCloud, build_bonds
 from peridynamics.bonds.search import brute_force_pairs
-from peridynamics.contact import ShortRangeContact
+from peridynamics.evaluation.short_range_contact import ShortRangeContact
 from peridynamics.geometry import bar, box, rectangle
 from peridynamics.kernels import contact as kernels
 from peridynamics.kernels.contact import contact_force_reference

@@ -8,13 +8,13 @@ import pytest
 import scipy.sparse.linalg as spla
 
 from peridynamics.bonds.bonds import Bonds, build_bonds
+from peridynamics.evaluation import Model
+from peridynamics.families.correspondence.force import DEGENERATE_RATIO
+from peridynamics.families.correspondence.material import CorrespondenceMaterial
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.geometry.generators import box, rectangle
 from peridynamics.kernels import correspondence as kernels
 from peridynamics.kernels import reference_correspondence as ref
-from peridynamics.materials.correspondence import CorrespondenceMaterial
-from peridynamics.model import Model
-from peridynamics.models.correspondence import DEGENERATE_RATIO
 
 STABS = ("none", "silling2017", "lbscmm")
 

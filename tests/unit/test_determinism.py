@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 from peridynamics.bonds import build_bonds
+from peridynamics.evaluation import Model
+from peridynamics.families.pmb import BondBasedMaterial
 from peridynamics.geometry import bar, box, rectangle
 from peridynamics.kernels import bond_based as bb
-from peridynamics.materials import BondBasedMaterial
-from peridynamics.model import Model
 
 
 def _fresh(kernel):

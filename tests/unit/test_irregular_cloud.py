@@ -23,6 +23,7 @@ from peridynamics.analysis.anisotropy import damage_anisotropy
 from peridynamics.bonds.surface import energy_correction_factors, moment_correction_factors
 from peridynamics.build.cloud import build_cloud
 from peridynamics.build.errors import SetupError
+from peridynamics.families.calibration import calibrate_influence
 from peridynamics.geometry import Ball, box, cylinder, rectangle
 from peridynamics.geometry.generators import voronoi_volumes
 from peridynamics.deck import DeckError, parse_deck
@@ -218,7 +219,9 @@ def test_moment_correction_gives_every_interior_point_the_continuum_energy(dim: 
     raw = mat.bond_stiffness(cloud, bonds, corrected=False)
     w_inf = mat.uniaxial_energy_density(1e-6, dim, bonds.horizon, cloud.cross_section,
                                         cloud.plane)  # fmt: skip
-    g = moment_correction_factors(cloud.x, bonds, raw, w_inf, 1e-6)
+    g = moment_correction_factors(
+        cloud.x, bonds, raw, w_inf, 1e-6, calibrate=calibrate_influence
+    )
     np.testing.assert_allclose(g, g[bonds.reverse_index()], rtol=1e-14)  # pair forces
     assert g.min() > 0
     model = Model(cloud, bonds.with_correction(g), mat)

@@ -14,16 +14,16 @@ import scipy.sparse.linalg as spla
 from scipy.integrate import quad
 
 from peridynamics.bonds import build_bonds
-from peridynamics.geometry import PointCloud, box, rectangle
-from peridynamics.geometry.cloud import Plane
-from peridynamics.kernels import reference_lps as ref
-from peridynamics.materials.lps import _FRACTURE_INTEGRALS, LPSMaterial
-from peridynamics.models.lps import LPSForceModel
-from peridynamics.models.tangent import (
+from peridynamics.families.lps.force import LPSForceModel
+from peridynamics.families.lps.material import _FRACTURE_INTEGRALS, LPSMaterial
+from peridynamics.families.tangent import (
     assemble_pattern,
     finite_difference_tangent,
     grid_colouring,
 )
+from peridynamics.geometry import PointCloud, box, rectangle
+from peridynamics.geometry.cloud import Plane
+from peridynamics.kernels import reference_lps as ref
 from peridynamics.solvers.static import reference_state, solve_linear_static
 from peridynamics.state import State
 
@@ -189,7 +189,7 @@ def test_critical_stretch_values():
 
 
 def test_micromodulus_constant_is_the_bond_based_one():
-    from peridynamics.materials.bond_based import BondBasedMaterial
+    from peridynamics.families.pmb.material import BondBasedMaterial
 
     mat = LPSMaterial(E, 0.3, RHO)
     pmb = BondBasedMaterial(E, RHO)

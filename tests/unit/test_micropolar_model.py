@@ -1,8 +1,9 @@
 """2-D micropolar bond-based model: springs, kernels, energy, tangent, assembly, dynamics.
 
-Checks :mod:`peridynamics.materials.micropolar`, :mod:`peridynamics.models.micropolar`,
+Checks :mod:`peridynamics.families.micropolar.material`,
+:mod:`peridynamics.families.micropolar.force`,
 the Numba kernels against their NumPy twins, and the two tangent assemblies of
-:mod:`peridynamics.models.assembly`. All models are small (at most 256 points).
+:mod:`peridynamics.families.assembly`. All models are small (at most 256 points).
 """
 
 from __future__ import annotations
@@ -14,11 +15,11 @@ import pytest
 import scipy.linalg as la
 
 from peridynamics.bonds.bonds import build_bonds
+from peridynamics.evaluation import Model
+from peridynamics.families.assembly import element_assembly
+from peridynamics.families.micropolar.material import MicropolarMaterial
 from peridynamics.geometry.generators import bar, box, rectangle
 from peridynamics.kernels import reference_micropolar as ref
-from peridynamics.materials.micropolar import MicropolarMaterial
-from peridynamics.model import Model
-from peridynamics.models.assembly import element_assembly
 
 E, NU, RHO = 200e9, 0.2, 7800.0
 DX = 0.01

@@ -29,12 +29,14 @@ from peridynamics.bonds.precrack import make_crack
 from peridynamics.build.errors import SetupError
 from peridynamics.damage.critical_stretch import CriticalStretch
 from peridynamics.deck import DeckError, parse_deck
+from peridynamics.evaluation import Model
+from peridynamics.families.lps.material import LPSMaterial
+from peridynamics.families.micropolar.material import MicropolarMaterial
+from peridynamics.families.pmb.material import BondBasedMaterial
 from peridynamics.geometry.generators import rectangle
 from peridynamics.loading.conditions import BodyForce, Fixed, PrescribedDisplacement
-from peridynamics.materials.bond_based import BondBasedMaterial
-from peridynamics.materials.lps import LPSMaterial
-from peridynamics.materials.micropolar import MicropolarMaterial
-from peridynamics.model import Model
+from peridynamics.app.run import Simulation
+from peridynamics.build.errors import SetupError
 from peridynamics.solvers.newton import StaticSolver
 from peridynamics.solvers.static import solve_linear_static
 

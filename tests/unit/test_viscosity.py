@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from peridynamics import BondBasedMaterial, Model, build_bonds
+from peridynamics.families.viscosity import BondViscosity, horizon_volume
 from peridynamics.geometry import bar, box, rectangle
 from peridynamics.kernels import reference
-from peridynamics.materials.viscosity import BondViscosity, horizon_volume
 from peridynamics.solvers.explicit import ExplicitSolver
 
 E, RHO = 193e9, 8027.0

@@ -14,7 +14,7 @@ pytest.importorskip("warp", reason="warp-lang not installed (pip install '.[gpu]
 from peridynamics import BondBasedMaterial, Model, PointCloud, build_bonds  # noqa: E402
 from peridynamics.backends.warp_contact import DeviceContact, supports  # noqa: E402
 from peridynamics.backends.warp_device import DeviceModel, DeviceState  # noqa: E402
-from peridynamics.contact import ShortRangeContact  # noqa: E402
+from peridynamics.evaluation.short_range_contact import ShortRangeContact  # noqa: E402
 from peridynamics.geometry import box, rectangle  # noqa: E402
 
 DX = 1e-3

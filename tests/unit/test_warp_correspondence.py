@@ -19,11 +19,11 @@ from peridynamics.backends.warp_device import DeviceModel, DeviceState  # noqa: 
 from peridynamics.bonds.bonds import build_bonds  # noqa: E402
 from peridynamics.damage.critical_stretch import CriticalStretch  # noqa: E402
 from peridynamics.damage.principal_stress import CorrespondenceFailure  # noqa: E402
+from peridynamics.evaluation import Model  # noqa: E402
+from peridynamics.families.correspondence.force import DEGENERATE_RATIO  # noqa: E402
+from peridynamics.families.correspondence.material import CorrespondenceMaterial  # noqa: E402
 from peridynamics.geometry.generators import box, rectangle  # noqa: E402
 from peridynamics.kernels import reference_correspondence as ref  # noqa: E402
-from peridynamics.materials.correspondence import CorrespondenceMaterial  # noqa: E402
-from peridynamics.model import Model  # noqa: E402
-from peridynamics.models.correspondence import DEGENERATE_RATIO  # noqa: E402
 
 STABS = ("none", "silling2017", "lbscmm")
 DX = 1e-3
@@ -248,7 +248,7 @@ def _device_s1(m: Model, u: np.ndarray, intact: np.ndarray) -> np.ndarray:
 
 
 def test_supports_rejects_other_models_and_laws() -> None:
-    from peridynamics.materials.lps import LPSMaterial
+    from peridynamics.families.lps.material import LPSMaterial
 
     cloud, bonds = _geometry(2)
     lps = Model(cloud, bonds, LPSMaterial(70e9, 0.3, 2700.0, "constant"))

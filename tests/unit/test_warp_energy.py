@@ -18,13 +18,13 @@ from peridynamics.backends.warp_energy import DeviceEnergy, supports  # noqa: E4
 from peridynamics.backends.warp_extras import DeviceSED  # noqa: E402
 from peridynamics.damage import CriticalStretch, SEDSoftening  # noqa: E402
 from peridynamics.damage.bond_softening import SofteningBonds  # noqa: E402
+from peridynamics.families.correspondence.force import DEGENERATE_RATIO  # noqa: E402
+from peridynamics.families.correspondence.material import CorrespondenceMaterial  # noqa: E402
+from peridynamics.families.lps.material import LPSMaterial  # noqa: E402
 from peridynamics.geometry import bar, box, rectangle  # noqa: E402
 from peridynamics.kernels import reference  # noqa: E402
 from peridynamics.kernels import reference_correspondence as ref_corr  # noqa: E402
 from peridynamics.kernels import reference_lps as ref_lps  # noqa: E402
-from peridynamics.materials.correspondence import CorrespondenceMaterial  # noqa: E402
-from peridynamics.materials.lps import LPSMaterial  # noqa: E402
-from peridynamics.models.correspondence import DEGENERATE_RATIO  # noqa: E402
 
 DEVICE = "cpu"
 DX = 1e-3

@@ -12,10 +12,10 @@ from peridynamics.backends._warp_dsl import _pmb_force_break  # noqa: E402
 from peridynamics.backends.warp_device import DeviceModel, DeviceState, to_device  # noqa: E402
 from peridynamics.backends.warp_extras import DeviceSED, DeviceViscosity, supports  # noqa: E402
 from peridynamics.damage import CriticalStretch, SEDSoftening  # noqa: E402
+from peridynamics.families.viscosity import BondViscosity  # noqa: E402
 from peridynamics.geometry import bar, box, rectangle  # noqa: E402
 from peridynamics.kernels import reference  # noqa: E402
 from peridynamics.kernels.viscous import add_viscous_force  # noqa: E402
-from peridynamics.materials.viscosity import BondViscosity  # noqa: E402
 
 DEVICE = "cpu"
 E, RHO = 193e9, 8027.0

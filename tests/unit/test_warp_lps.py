@@ -15,11 +15,11 @@ from peridynamics.backends.warp_device import DeviceModel, DeviceState  # noqa: 
 from peridynamics.backends.warp_lps import DeviceLPS, supports  # noqa: E402
 from peridynamics.bonds import build_bonds  # noqa: E402
 from peridynamics.damage.critical_stretch import NO_DAMAGE, CriticalStretch  # noqa: E402
+from peridynamics.evaluation import Model  # noqa: E402
+from peridynamics.families.lps.material import LPSMaterial  # noqa: E402
+from peridynamics.families.pmb.material import BondBasedMaterial  # noqa: E402
 from peridynamics.geometry import box, rectangle  # noqa: E402
 from peridynamics.kernels import reference_lps as ref  # noqa: E402
-from peridynamics.materials.bond_based import BondBasedMaterial  # noqa: E402
-from peridynamics.materials.lps import LPSMaterial  # noqa: E402
-from peridynamics.model import Model  # noqa: E402
 from peridynamics.state import State  # noqa: E402
 
 DX = 1e-3

@@ -151,9 +151,9 @@ def test_pmb_plate_with_prescribed_displacement_matches_newton() -> None:
 
 def test_lps_plate_in_tension_matches_newton() -> None:
     """The same plate with LPS (nu = 0.25); Newton with the finite-difference tangent of
-    :mod:`peridynamics.models.tangent` (independent of the model's analytic one)."""
-    lps = pytest.importorskip("peridynamics.materials.lps")
-    fd = pytest.importorskip("peridynamics.models.tangent")
+    :mod:`peridynamics.families.tangent` (independent of the model's analytic one)."""
+    lps = pytest.importorskip("peridynamics.families.lps.material")
+    fd = pytest.importorskip("peridynamics.families.tangent")
     model, bc, _ = _plate(lps.LPSMaterial(E, 0.25, RHO), traction=1e6)
     solver, s, info = _adr(model, bc, tolerance=1e-10)
     assert info["converged"]

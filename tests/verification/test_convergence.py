@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 
 from peridynamics.bonds import build_bonds
+from peridynamics.evaluation import Model
+from peridynamics.families.pmb import BondBasedMaterial
 from peridynamics.geometry import bar, rectangle
-from peridynamics.materials import BondBasedMaterial
-from peridynamics.model import Model
 
 E = 70e9
 

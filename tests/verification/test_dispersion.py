@@ -12,9 +12,9 @@ import pytest
 
 from peridynamics.analysis import dispersion as dsp
 from peridynamics.bonds import build_bonds
+from peridynamics.evaluation import Model
+from peridynamics.families.pmb import BondBasedMaterial
 from peridynamics.geometry import bar, rectangle
-from peridynamics.materials import BondBasedMaterial
-from peridynamics.model import Model
 from peridynamics.solvers import ExplicitSolver
 from tests.helpers import cli
 

@@ -7,10 +7,10 @@ import pytest
 
 from peridynamics.bonds import build_bonds
 from peridynamics.damage import CriticalStretch
+from peridynamics.evaluation import Model
+from peridynamics.families.pmb import BondBasedMaterial
 from peridynamics.geometry import bar
 from peridynamics.loading import TriangularPulse, traction_as_body_force
-from peridynamics.materials import BondBasedMaterial
-from peridynamics.model import Model
 from peridynamics.solvers import ExplicitSolver
 from peridynamics.solvers.fdm import FDMModel1D
 from peridynamics.solvers.hybrid import HybridSolver, SwitchAtStretch

@@ -29,8 +29,9 @@ from scipy.spatial import Delaunay
 
 from peridynamics import BondBasedMaterial, Model, build_bonds
 from peridynamics.bonds.surface import energy_correction_factors, moment_correction_factors
+from peridynamics.families.calibration import calibrate_influence
+from peridynamics.families.lps.material import LPSMaterial
 from peridynamics.geometry import PointCloud, box, from_mesh, rectangle
-from peridynamics.materials.lps import LPSMaterial
 
 E, RHO, DX, M = 70e9, 2700.0, 1e-3, 3.015
 SIGMA = 1e6
@@ -48,7 +49,9 @@ def pmb_model(cloud: PointCloud, bonds, correction: str = "moments") -> Model:
             w_inf = mat.uniaxial_energy_density(
                 1e-6, cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
             )
-            ref = moment_correction_factors(cloud.x, bonds, raw, w_inf, 1e-6)
+            ref = moment_correction_factors(
+                cloud.x, bonds, raw, w_inf, 1e-6, calibrate=calibrate_influence
+            )
             assert np.array_equal(model.bonds.bond_correction, ref)
         return model
     raw = mat.bond_stiffness(cloud, bonds, corrected=False)

@@ -1,5 +1,6 @@
 """LPS surface correction (``surface_correction=True``, the deck default): the per-point
-calibration of the influence function (:func:`peridynamics.models.lps.calibrate_influence`).
+calibration of the influence function
+(:func:`peridynamics.families.calibration.calibrate_influence`).
 
 What is checked, on the default deck discretisation (truncated partial volumes,
 delta = 3.015 dx):
@@ -30,17 +31,17 @@ import scipy.sparse.linalg as spla
 
 from peridynamics.bonds import build_bonds
 from peridynamics.bonds.precrack import make_crack
-from peridynamics.geometry import PointCloud, box, rectangle
-from peridynamics.kernels import reference_lps as ref
-from peridynamics.materials.lps import LPSMaterial
-from peridynamics.models.lps import (
+from peridynamics.families.calibration import (
     CALIBRATION_BOUNDS,
-    LPSForceModel,
     calibrate_influence,
     isotropic_fourth_moment,
     quartic_monomials,
 )
-from peridynamics.models.tangent import finite_difference_tangent
+from peridynamics.families.lps.force import LPSForceModel
+from peridynamics.families.lps.material import LPSMaterial
+from peridynamics.families.tangent import finite_difference_tangent
+from peridynamics.geometry import PointCloud, box, rectangle
+from peridynamics.kernels import reference_lps as ref
 from peridynamics.solvers.static import reference_state, solve_linear_static
 
 DX = 1e-3

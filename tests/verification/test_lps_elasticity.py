@@ -29,8 +29,8 @@ import numpy as np
 import pytest
 
 from peridynamics.bonds import build_bonds
+from peridynamics.families.lps.material import LPSMaterial
 from peridynamics.geometry import box, rectangle
-from peridynamics.materials.lps import LPSMaterial
 from peridynamics.solvers.static import reference_state, solve_linear_static
 
 DX = 1e-3

@@ -247,7 +247,7 @@ def bloch_dispersion(model: object, point: int, wavevectors: ArrayLike, mode: st
     projector n n^T (``mode="tensor"``, the full bond-based operator) or 1
     (``mode="scalar"``, PD wave dispersion (n.d.), eq. 9). The family, partial volumes, micromodulus
     profile and surface correction are those of ``model`` (a
-    :class:`~peridynamics.model.Model`); ``point`` should be an interior point.
+    :class:`~peridynamics.evaluation.model.Model`); ``point`` should be an interior point.
 
     Returns shape (n_k,) for "scalar" and (n_k, dim) (ascending) for "tensor".
     """
@@ -371,7 +371,7 @@ def viscous_1d(N_h: ArrayLike, m: float = 3.015, b1: float = 0.5) -> ViscousDisp
     (n.d.), eqs 36-44.
 
     With gamma = b1 delta / (4 v0) (the rate constant equivalent to f_1 = b1 alpha_p zeta,
-    see :mod:`peridynamics.materials.viscosity`) eq. 41 has the root (eq. 42)
+    see :mod:`peridynamics.families.viscosity`) eq. 41 has the root (eq. 42)
     v' = -i gamma M / (2 rho kappa) + sqrt(M / (rho kappa^2) - (gamma M / (2 rho kappa))^2),
     i.e. v_i / v0 = -(b1 pi N_h m / 4) (v/v0)^2 and |v_i / v| = (b1 / 4) sqrt(S) with
     S = sum_j (1 - cos 2 pi N_h j) / j (eq. 44): periodic in N_h like omega, so the damping

@@ -15,10 +15,10 @@ import numpy as np
 
 from peridynamics.bonds import build_bonds
 from peridynamics.damage.critical_stretch import NO_DAMAGE
+from peridynamics.evaluation import Model
+from peridynamics.families.pmb import BondBasedMaterial
 from peridynamics.geometry import bar, box, rectangle
 from peridynamics.kernels import reference
-from peridynamics.materials import BondBasedMaterial
-from peridynamics.model import Model
 from peridynamics.solvers import ExplicitSolver
 from peridynamics.state import State
 

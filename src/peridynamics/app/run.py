@@ -35,8 +35,8 @@ from peridynamics.solvers.explicit import SimulationUnstable
 from peridynamics.state import State
 
 if TYPE_CHECKING:
+    from peridynamics.evaluation import Model
     from peridynamics.geometry import PointCloud
-    from peridynamics.model import Model
 
 
 class RunLoop:

@@ -1,4 +1,5 @@
-"""Short-range contact on the Warp device: :class:`~peridynamics.contact.ShortRangeContact`
+"""Short-range contact on the Warp device:
+:class:`~peridynamics.evaluation.short_range_contact.ShortRangeContact`
 as a :class:`~peridynamics.backends.warp_device.DeviceExtra`.
 
 The host's design, kept on the device: a directed CSR Verlet list of the pairs closer
@@ -49,7 +50,7 @@ def supports(model: Any) -> str | None:
     contact = getattr(model, "contact", None)
     if contact is None:
         return None
-    from peridynamics.contact import ShortRangeContact
+    from peridynamics.evaluation.short_range_contact import ShortRangeContact
 
     if not isinstance(contact, ShortRangeContact):
         return f"contact: {type(contact).__name__} has no Warp device version"

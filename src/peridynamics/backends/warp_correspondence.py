@@ -1,10 +1,10 @@
 """The correspondence (non-ordinary state-based) family on the Warp device: the
 :class:`~peridynamics.backends.warp_device.DeviceFamily` of
-:class:`~peridynamics.models.correspondence.CorrespondenceForceModel`, with its three
+:class:`~peridynamics.families.correspondence.force.CorrespondenceForceModel`, with its three
 zero-energy-mode controls (``material.stabilization``: none, silling2017, lbscmm) and the
 built-in stress laws (``material.law``: st_venant_kirchhoff, linear_elastic).
 
-One evaluation runs, as :meth:`peridynamics.model.Model.evaluate` on the host: with
+One evaluation runs, as :meth:`peridynamics.evaluation.model.Model.evaluate` on the host: with
 ``commit`` the damage law's trial and commit, then the pre-pass (K, F, sigma^s, A =
 (P - sigma^s) K^-1 and the stabilisation coefficient of every point) and the force pass.
 Damage laws: critical stretch
@@ -56,7 +56,7 @@ def supports(model: Any) -> str | None:
     """None when :class:`DeviceCorrespondence` runs ``model``, else a one-line reason
     naming the deck key."""
     from peridynamics.damage.critical_stretch import CriticalStretchLaw
-    from peridynamics.models.correspondence import CorrespondenceForceModel
+    from peridynamics.families.correspondence.force import CorrespondenceForceModel
 
     fm = model.force_model
     if not isinstance(fm, CorrespondenceForceModel):
@@ -119,7 +119,7 @@ class DeviceCorrespondence:
             _DEGENERATE_ROUNDS,
             CorrespondenceFailureLaw,
         )
-        from peridynamics.models.correspondence import DEGENERATE_RATIO
+        from peridynamics.families.correspondence.force import DEGENERATE_RATIO
 
         fm = model.force_model
         law = model.damage_law

@@ -1,6 +1,6 @@
 """The point strain-energy density W_i (J/m^3) on the Warp device.
 
-:meth:`peridynamics.model.Model.state_energies` sums ``W_i V_i`` on the host, which on
+:meth:`peridynamics.evaluation.model.Model.state_energies` sums ``W_i V_i`` on the host, which on
 the Warp backend needs ``u`` and the bond flags copied back and a host pass over every
 bond. :class:`DeviceEnergy` computes W_i on the device with the host's arithmetic
 (:mod:`peridynamics.backends._warp_energy_dsl`), so only n floats come back; the
@@ -36,10 +36,10 @@ LAWS = {"st_venant_kirchhoff": 0, "linear_elastic": 1}
 
 def _kind(model: Any) -> tuple[str | None, str]:
     """(``"pmb"``, ``"lps"``, ``"correspondence"`` or None, why not)."""
-    from peridynamics.models.correspondence import CorrespondenceForceModel
-    from peridynamics.models.lps import LPSForceModel
-    from peridynamics.models.pmb import PMBForceModel
-    from peridynamics.models.pmb_softening import PMBSofteningForceModel
+    from peridynamics.families.correspondence.force import CorrespondenceForceModel
+    from peridynamics.families.lps.force import LPSForceModel
+    from peridynamics.families.pmb.force import PMBForceModel
+    from peridynamics.families.pmb_softening.force import PMBSofteningForceModel
 
     fm = model.force_model
     name = getattr(fm, "name", type(fm).__name__)
@@ -119,7 +119,7 @@ class DeviceEnergy:
             self.a = dm.upload("lps_extension_coef", np.asarray(fm.extension_coef, f64))
             self.k_theta = float(fm.k_theta)
         else:
-            from peridynamics.models.correspondence import DEGENERATE_RATIO
+            from peridynamics.families.correspondence.force import DEGENERATE_RATIO
 
             d = dm.dim
             self.mode = int(fm.mode)

@@ -1,10 +1,10 @@
 """Extras of the bond-based PMB model on the Warp device: viscous bond forces
 (:class:`DeviceViscosity`, a :class:`~peridynamics.backends.warp_device.DeviceExtra`) and
 strain-energy-density softening of the bond stiffness (:class:`DeviceSED`, the device
-twin of :class:`~peridynamics.models.softening.SoftenedStiffness`).
+twin of :class:`~peridynamics.families.pmb_sed.stiffness.SoftenedStiffness`).
 
 Per committing evaluation the solver runs, in the order of
-:meth:`peridynamics.model.Model.evaluate`:
+:meth:`peridynamics.evaluation.model.Model.evaluate`:
 
 1. the PMB force-and-break pass reading ``DeviceSED.stiffness``;
 2. :meth:`DeviceSED.update` (energy with the initial stiffness at ``ds.u`` over the
@@ -40,8 +40,8 @@ def supports(model: Any) -> str | None:
     """None when :class:`DeviceViscosity` and :class:`DeviceSED` can run the extras of
     ``model`` on the device, else a one-line reason naming the deck key."""
     from peridynamics.damage.critical_stretch import CriticalStretchLaw
-    from peridynamics.models.pmb import PMBForceModel
-    from peridynamics.models.pmb_softening import PMBSofteningForceModel
+    from peridynamics.families.pmb.force import PMBForceModel
+    from peridynamics.families.pmb_softening.force import PMBSofteningForceModel
 
     if model.cloud.x.dtype != np.float64:
         return "discretisation: the Warp extras need float64 positions"
@@ -97,7 +97,7 @@ class DeviceViscosity:
 
 class DeviceSED:
     """SED softening of the PMB bond stiffness on the device (SED-PD (2021), eqs 18-24):
-    the twin of :class:`~peridynamics.models.softening.SoftenedStiffness`.
+    the twin of :class:`~peridynamics.families.pmb_sed.stiffness.SoftenedStiffness`.
 
     Attributes
     ----------

@@ -2,7 +2,7 @@
 
 :func:`device_terms` picks the device family of the model's force model (PMB here; LPS
 and correspondence in their modules) and the extras (contact, mass damping, viscosity)
-in the order of :meth:`peridynamics.model.Model.evaluate`; :func:`unsupported` names the
+in the order of :meth:`peridynamics.evaluation.model.Model.evaluate`; :func:`unsupported` names the
 deck key of anything the backend does not run (the run is refused before it starts).
 """
 
@@ -105,9 +105,9 @@ def unsupported(model: Any, integrator: str = "velocity_verlet") -> tuple[str, s
     or None when it runs all of it."""
     from peridynamics.bodies.composite import CompositeForceModel
     from peridynamics.damage.critical_stretch import CriticalStretchLaw
-    from peridynamics.models.correspondence import CorrespondenceForceModel
-    from peridynamics.models.lps import LPSForceModel
-    from peridynamics.models.pmb import PMBForceModel
+    from peridynamics.families.correspondence.force import CorrespondenceForceModel
+    from peridynamics.families.lps.force import LPSForceModel
+    from peridynamics.families.pmb.force import PMBForceModel
 
     fm = model.force_model
     if model.comm.size > 1:
@@ -169,8 +169,8 @@ def unsupported(model: Any, integrator: str = "velocity_verlet") -> tuple[str, s
 def device_terms(model: Any, dm: DeviceModel) -> tuple[Any, list[Any]]:
     """(device family, extras in the order of the host's evaluation) of ``model``;
     ValueError naming the deck key when a part is not on the Warp backend."""
-    from peridynamics.models.correspondence import CorrespondenceForceModel
-    from peridynamics.models.lps import LPSForceModel
+    from peridynamics.families.correspondence.force import CorrespondenceForceModel
+    from peridynamics.families.lps.force import LPSForceModel
 
     got = unsupported(model)
     if got is not None:

@@ -1,8 +1,8 @@
 """The LPS (ordinary state-based linear peridynamic solid) family on the Warp device: the
 :class:`~peridynamics.backends.warp_device.DeviceFamily` of
-:class:`~peridynamics.models.lps.LPSForceModel`.
+:class:`~peridynamics.families.lps.force.LPSForceModel`.
 
-One evaluation runs, as :meth:`peridynamics.model.Model.evaluate` on the host: the
+One evaluation runs, as :meth:`peridynamics.evaluation.model.Model.evaluate` on the host: the
 critical-stretch trial and commit (with ``commit``), the dilatation pre-pass, the force
 pass. The constants (influence weights of both bond ends, ``tf / m_i``, ``k_theta tf /
 m_i``, ``alpha / m_i``) are the host model's arrays, uploaded once; the weighted volume
@@ -31,7 +31,7 @@ def supports(model: Any) -> str | None:
     """None when :class:`DeviceLPS` runs ``model``, else a one-line reason naming the
     deck key."""
     from peridynamics.damage.critical_stretch import CriticalStretchLaw
-    from peridynamics.models.lps import LPSForceModel
+    from peridynamics.families.lps.force import LPSForceModel
 
     fm = model.force_model
     if not isinstance(fm, LPSForceModel):
@@ -57,7 +57,7 @@ class DeviceLPS:
     Parameters
     ----------
     model : Model
-        Its ``force_model`` an :class:`~peridynamics.models.lps.LPSForceModel`, its
+        Its ``force_model`` an :class:`~peridynamics.families.lps.force.LPSForceModel`, its
         damage law a critical-stretch law (``damage.model: none`` is one that breaks
         nothing); ValueError otherwise (:func:`supports`).
     dm : DeviceModel

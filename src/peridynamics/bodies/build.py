@@ -18,8 +18,8 @@ from numpy.typing import NDArray
 
 from peridynamics.bodies.interface import InterfaceBonds, interface_pairs
 from peridynamics.bonds.bonds import Bonds
+from peridynamics.families.pmb.material import BondBasedMaterial
 from peridynamics.geometry.cloud import PointCloud
-from peridynamics.materials.bond_based import BondBasedMaterial
 
 
 @dataclass(frozen=True)

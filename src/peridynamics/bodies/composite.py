@@ -27,8 +27,11 @@ from numpy.typing import NDArray
 
 from peridynamics.bodies.interface import InterfaceBonds
 from peridynamics.bonds.bonds import Bonds
+from peridynamics.families.base import DamageLaw, FieldSpec, ForceModel, FusedStep
+from peridynamics.families.pmb.tangent import pmb_tangent
+from peridynamics.families.registry import build_force_model
+from peridynamics.families.tangent import finite_difference_tangent
 from peridynamics.geometry.cloud import PointCloud
-from peridynamics.models.base import DamageLaw, FieldSpec, ForceModel
 from peridynamics.state import State
 
 #: per-point fields every State has (``intact`` is the per-bond one)
@@ -169,11 +172,7 @@ class CompositeForceModel(ForceModel):
         for p in self.parts:
             sub = sub_cloud(cloud, p.start, p.stop)
             own = sub_bonds(bonds, p.start, p.stop)
-            shaped = getattr(p.damage, "force_model", None)  # a softening bond law
-            if shaped is not None:
-                fm = shaped(p.material, sub, own, surface_correction)
-            else:
-                fm = p.material.force_model(sub, own, surface_correction)
+            fm = build_force_model(p.material, p.damage, sub, own, surface_correction)
             if len(fm.dofs()) != 1:
                 raise ValueError(
                     f"body {p.name!r}: the {fm.name!r} model has rotational degrees of "
@@ -227,23 +226,22 @@ class CompositeForceModel(ForceModel):
             m.force(view)
         self.add_interface_force(state)
 
+    def fused_step(self, state: State, law: DamageLaw, sed: Any = None) -> FusedStep:
+        """Explicit path (:meth:`force_and_commit`); the bonds broken are not counted per
+        point (``counted`` False)."""
+        assert isinstance(law, CompositeDamageLaw), "several bodies need their composite law"
+        return FusedStep(self.force_and_commit(state, law), counted=False)
+
     def force_and_commit(self, state: State, law: CompositeDamageLaw) -> int:
         """Explicit path: each body's damage committed and its force computed the way a
-        single-body model does it (one fused pass for PMB and for the softening bond
-        laws), then the interface bonds. Returns the bonds broken."""
-        from peridynamics.damage.critical_stretch import CriticalStretchLaw
-        from peridynamics.models.pmb import PMBForceModel
-
+        single-body model does it (one fused pass where its force model declares one:
+        PMB, the softening bond laws), then the interface bonds. Returns the bonds
+        broken."""
         broken = 0
         for m, part_law, view in zip(self.models, law.laws, self.views(state), strict=True):
-            if (
-                isinstance(m, PMBForceModel)
-                and m.fused_breaking
-                and isinstance(part_law, CriticalStretchLaw)
-            ):
-                broken += m.force_and_break(view, part_law.point_s0, part_law.family_s0_min)
-            elif getattr(part_law, "fused_model", None) is m:
-                broken += m.force_and_commit(view)  # type: ignore[attr-defined]
+            step = m.fused_step(view, part_law)
+            if step is not None:
+                broken += step.broken
             else:
                 if part_law.active:
                     part_law.trial(view)
@@ -261,9 +259,15 @@ class CompositeForceModel(ForceModel):
 
     def point_damage(
         self, intact: NDArray[np.uint8], interface_intact: NDArray[np.uint8] | None
-    ) -> NDArray[np.float64]:
+    ) -> NDArray[np.float64] | None:
         """Local damage phi_i (n,): the broken share of the partial volumes of all bonds
-        of point i, interface bonds included (a debonded inclusion shows as damaged)."""
+        of point i, interface bonds included (a debonded inclusion shows as damaged;
+        ``interface_intact`` None: as built). None without interfaces (the evaluator's
+        damage from ``bonds`` is the same)."""
+        if not self.interfaces:
+            return None
+        if interface_intact is None:
+            interface_intact = np.concatenate([f.bonds.bond_intact for f in self.interfaces])
         b = self.bonds
         n = self.n_points
         starts = b.offsets[:-1]
@@ -328,13 +332,10 @@ class CompositeForceModel(ForceModel):
     def tangent(self, state: State) -> sp.csr_matrix | None:
         """Tangent K = -d(V f)/du (N/m): block-diagonal over the bodies (finite
         differences for a body without an analytic one) plus the analytic PMB tangent
-        of the interface bonds (:func:`~peridynamics.models.pmb_tangent.pmb_tangent`).
+        of the interface bonds (:func:`~peridynamics.families.pmb.tangent.pmb_tangent`).
         (A finite-difference tangent of the whole model would colour the points by the
         bodies' bonds only and mix the columns of points joined by interface bonds.)"""
         from types import SimpleNamespace
-
-        from peridynamics.models.pmb_tangent import pmb_tangent
-        from peridynamics.models.tangent import finite_difference_tangent
 
         blocks = []
         for m, view in zip(self.models, self.views(state), strict=True):
@@ -377,9 +378,7 @@ class CompositeDamageLaw(DamageLaw):
     def bind(self, force_model: ForceModel) -> None:
         """Bind each body's law to its body's force model (laws that read stresses)."""
         for law, m in zip(self.laws, self.model.models, strict=True):
-            bind = getattr(law, "bind", None)
-            if bind is not None:
-                bind(m)
+            law.bind(m)
 
     def trial(self, state: State) -> int:
         n = 0

@@ -8,7 +8,8 @@ deformable points to the solver's force array and return a :class:`ContactResult
 with the reaction on the body, for the rigid-body dynamics.
 
 Normal force (Parks et al. 2008, the short-range contact of
-:class:`peridynamics.contact.ShortRangeContact` with a wall): a deformable point i at
+:class:`peridynamics.evaluation.short_range_contact.ShortRangeContact` with a wall): a
+deformable point i at
 ``y_i`` with gap ``g = phi(R^T (y_i - c)) - r_c < 0`` gets
 
 .. math:: F_n = c_s V_i \\frac{-g}{d_c} n, \\qquad d_c = 2 r_c,
@@ -42,7 +43,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from peridynamics.bodies.shapes import Shape
-from peridynamics.contact import check_friction
+from peridynamics.evaluation.short_range_contact import check_friction
 from peridynamics.kernels import rigid_contact as shape_kernels
 from peridynamics.kernels import rigid_points_contact as point_kernels
 
@@ -239,7 +240,8 @@ class RigidShapeContact(RigidContact):
         r_c (m) > 0: points closer than r_c to the surface (or inside) are in contact;
         ``d_c = 2 r_c`` (half the pair contact distance is the natural choice).
     stiffness : float
-        c_s (N/m^6) > 0, as in :class:`peridynamics.contact.ShortRangeContact`.
+        c_s (N/m^6) > 0, as in
+        :class:`peridynamics.evaluation.short_range_contact.ShortRangeContact`.
     friction_static, friction_kinetic : float, optional
         mu_s >= mu_k >= 0 (default 0: frictionless, and the velocities are not read).
     """

@@ -10,7 +10,7 @@ model, empty away from the interface), evaluated by the PMB kernels of
   series; ``c`` the constant-profile PMB micromodulus of each body's Young's modulus,
   Silling & Askari (2005));
 * critical stretch ``s_I`` given, or from the interface fracture energy ``G_I`` by the
-  PMB relation of :meth:`~peridynamics.materials.bond_based.BondBasedMaterial.critical_stretch`
+  PMB relation of :meth:`~peridynamics.families.pmb.material.BondBasedMaterial.critical_stretch`
   with ``c_I``; ``inf`` (never breaks) when neither is given.
 
 The bonds carry a partial volume like the bodies' bonds and no surface correction.

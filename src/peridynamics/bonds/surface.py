@@ -23,12 +23,18 @@ both within about 1 % (docs/theory_bond_based.md, "Irregular point clouds").
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds, setup_chunk_bonds
 from peridynamics.bonds.search import bond_chunks
-from peridynamics.communicator import active_comm
+
+#: a family's influence calibration: (bonds, weight) -> (factor per bond, residual per
+#: point), as :func:`peridynamics.families.calibration.calibrate_influence`
+Calibration = Callable[[Bonds, NDArray[np.float64]], tuple[NDArray[np.float64], NDArray]]
 
 #: the dimensionless fourth moment <n_x^4> of the continuous ball, 3 / (d (d + 2))
 _COS4 = {1: 1.0, 2: 3.0 / 8.0, 3: 1.0 / 5.0}
@@ -40,6 +46,7 @@ def energy_correction_factors(
     stiffness: NDArray[np.float64],
     continuum_energy_density: float,
     strain: float = 1e-6,
+    comm: Any = None,
 ) -> NDArray[np.float64]:
     """Per-bond correction factors, shape (n_bonds,).
 
@@ -50,6 +57,9 @@ def energy_correction_factors(
     stiffness : (n_bonds,) uncorrected bond stiffness ``c(|xi|) * beta * V_j`` (N/m^3).
     continuum_energy_density : float
         Strain-energy density of the infinite body under uniaxial strain ``strain`` (J/m^3).
+    comm : Communicator, optional
+        Exchanges the point ratios of ghost points in a decomposed run (see
+        :func:`bond_factors_from_point_ratios`); ``None``: one process.
     """
     n, dim = x.shape
     lam = np.empty((dim, n))
@@ -71,19 +81,22 @@ def energy_correction_factors(
     with np.errstate(divide="ignore"):  # ghosts without a family (MPI): exchanged below
         for k in range(dim):
             lam[k] = continuum_energy_density / (0.25 * w[k])
-    return bond_factors_from_point_ratios(bonds, lam)
+    return bond_factors_from_point_ratios(bonds, lam, comm)
 
 
 def bond_factors_from_point_ratios(
-    bonds: Bonds, ratios: NDArray[np.float64]
+    bonds: Bonds, ratios: NDArray[np.float64], comm: Any = None
 ) -> NDArray[np.float64]:
     """Bond factors G = [sum_k (n_k / G_k)^2]^(-1/2), G_k = (lambda_k,i + lambda_k,j)/2,
     shape (n_bonds,), from the per-direction point ratios ``ratios`` (dim, n_points)
-    = W_inf / W_k,i of any model family (the shared step of the energy method)."""
+    = W_inf / W_k,i of any model family (the shared step of the energy method).
+
+    ``comm`` (a communicator with ``size`` and ``exchange``, given by the caller; ``None``
+    in one process): in a decomposed run the ghosts, which have no family on this rank,
+    take their owner's ratios."""
     out = np.empty(bonds.n_bonds)
     dim = ratios.shape[0]
-    comm = active_comm()
-    if comm.size > 1:  # ghosts without a family here take their owner's ratios
+    if comm is not None and comm.size > 1:  # ghosts without a family here take their owner's ratios
         r = np.ascontiguousarray(ratios.T)
         comm.exchange(r)
         ratios = r.T
@@ -104,6 +117,8 @@ def moment_correction_factors(
     stiffness: NDArray[np.float64],
     continuum_energy_density: float,
     strain: float = 1e-6,
+    *,
+    calibrate: Calibration,
 ) -> NDArray[np.float64]:
     """Per-bond factors that give every point the continuum energy for *every* uniform
     strain (the moment method), shape (n_bonds,).
@@ -115,7 +130,7 @@ def moment_correction_factors(
     ``M_i = m_inf (d d + d d + d d) / (d (d + 2))`` (the isotropic tensor whose
     ``xxxx`` component gives the uniaxial ``W_inf``). Each point gets owner factors
     ``h_k = (m_inf / m_i) g_k``, where ``g_k`` are the influence factors of
-    :func:`peridynamics.models.lps.calibrate_influence` (the minimum-norm quartic in the
+    :func:`peridynamics.families.calibration.calibrate_influence` (the minimum-norm quartic in the
     bond direction, bounded to [0.25, 4] where a cut family needs more) that give the
     family the isotropic fourth moment at its own total ``m_i = sum_k w_k``; the bond
     factor is the mean of its two ends, ``G_ij = (h_ij + h_ji) / 2`` (symmetric: the
@@ -138,22 +153,23 @@ def moment_correction_factors(
     strain : float
         The uniaxial strain of ``continuum_energy_density`` (the factors do not
         depend on it).
+    calibrate : callable
+        The family's influence calibration ``(bonds, weight) -> (factor, residual)``
+        (:func:`peridynamics.families.calibration.calibrate_influence`), given by the
+        caller: points and bonds know no model family.
 
     Returns
     -------
     ndarray, shape (n_bonds,)
         Symmetric factors G_ij = G_ji > 0.
     """
-
-    from peridynamics.models.lps import calibrate_influence  # models import bonds
-
     n, dim = x.shape
     w = stiffness * bonds.bond_length
     m_i = np.bincount(bonds.bond_i, w, minlength=n)
     # W_inf = 1/4 eps^2 M_xxxx = 1/4 eps^2 m_inf <n_x^4>
     m_inf = 4.0 * continuum_energy_density / (strain * strain * _COS4[dim])
     every = bonds.replace(bond_intact=np.ones_like(bonds.bond_intact))
-    # calibrate_influence weighs bond k by weight_k |xi_k|^2: pass w / |xi|^2
-    g, _ = calibrate_influence(every, stiffness / bonds.bond_length)
+    # the calibration weighs bond k by weight_k |xi_k|^2: pass w / |xi|^2
+    g, _ = calibrate(every, stiffness / bonds.bond_length)
     h = g * (m_inf / m_i)[bonds.bond_i]
     return np.asarray(0.5 * (h + h[bonds.reverse_index()]), dtype=np.float64)

@@ -32,7 +32,7 @@ from peridynamics.build.materials import build_damage, build_material
 from peridynamics.build.regions import to_region
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics import deck as dk
-from peridynamics.model import Model
+from peridynamics.evaluation import Model
 
 
 def has_bodies(deck: dk.Deck) -> bool:
@@ -192,7 +192,7 @@ def build_rigid_system(
     if not deck.rigid_bodies:
         return None
     from peridynamics.bodies.rigid_contact import contact_for_shape, shape_of
-    from peridynamics.contact import ShortRangeContact
+    from peridynamics.evaluation.short_range_contact import ShortRangeContact
 
     con = deck.contact or dk.Contact()
     d_c = con.distance_factor * cloud.spacing

@@ -2,7 +2,7 @@
 
 :func:`build_material` builds the deck's material through :data:`MATERIAL_BUILDERS`
 (keyed by ``material.model``, each calling its family's class in
-:data:`peridynamics.materials.MATERIALS`); :func:`build_damage` the damage law;
+:data:`peridynamics.families.registry.MATERIALS`); :func:`build_damage` the damage law;
 :func:`build_model` the evaluator with loads, viscosity, softening and contact.
 """
 
@@ -19,9 +19,9 @@ from peridynamics.build.errors import SetupError
 from peridynamics.damage import NO_DAMAGE, CriticalStretch, SEDSoftening, WeibullField
 from peridynamics.geometry import PointCloud
 from peridynamics import deck as dk
-from peridynamics.materials import MATERIALS
-from peridynamics.materials.viscosity import BondViscosity
-from peridynamics.model import Model
+from peridynamics.families.registry import MATERIALS
+from peridynamics.families.viscosity import BondViscosity
+from peridynamics.evaluation import Model
 
 
 def _bond_based(m: Any) -> Any:
@@ -95,6 +95,7 @@ def build_damage(dmg: dk.Damage, m: Any, material: Any, cloud: PointCloud, bonds
     )
     if dmg.bond_law != "brittle":  # tension softening (validated: f_t and G0 given)
         from peridynamics.damage.bond_softening import SofteningBonds
+        from peridynamics.families.pmb_softening.envelope import softening_envelope
 
         assert dmg.tensile_strength is not None and dmg.fracture_energy is not None
         knee = dmg.trilinear_knee
@@ -106,7 +107,9 @@ def build_damage(dmg: dk.Damage, m: Any, material: Any, cloud: PointCloud, bonds
             no_fail,
         )
         try:  # the envelope needs s_c > s0 at this horizon: say so before the run
-            soft.envelope(material, cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane)
+            softening_envelope(
+                soft, material, cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
+            )
         except ValueError as exc:
             raise SetupError("damage.tensile_strength", str(exc)) from None
         return soft
@@ -162,7 +165,7 @@ def build_contact(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, material: Any)
     ``contact`` section); its stiffness from the PMB micromodulus of ``material``'s E."""
     if deck.contact is None:
         return None
-    from peridynamics.contact import ShortRangeContact
+    from peridynamics.evaluation.short_range_contact import ShortRangeContact
 
     c0 = material.micromodulus_constant(cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane)
     d_c = deck.contact.distance_factor * cloud.spacing

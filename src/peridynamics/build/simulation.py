@@ -27,8 +27,8 @@ from peridynamics.build.materials import build_contact, build_material, build_mo
 from peridynamics.build.solvers import build_solver
 from peridynamics.geometry import PointCloud
 from peridynamics import deck as dk
-from peridynamics.materials import MATERIALS
-from peridynamics.model import Model
+from peridynamics.families.registry import MATERIALS
+from peridynamics.evaluation import Model
 from peridynamics.solvers.base import Solver
 from peridynamics.solvers.fdm import FDMModel1D
 

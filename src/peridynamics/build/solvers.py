@@ -12,7 +12,7 @@ from peridynamics.build.errors import SetupError
 from peridynamics.damage import NO_DAMAGE
 from peridynamics.geometry import PointCloud
 from peridynamics import deck as dk
-from peridynamics.model import Model
+from peridynamics.evaluation import Model
 from peridynamics.solvers.base import Solver
 from peridynamics.solvers.explicit import ExplicitSolver
 from peridynamics.solvers.fdm import FDMModel1D
@@ -115,7 +115,7 @@ def _set_precision(model: Model, precision: str) -> None:
     """``solver.precision: float32``: the PMB force pass with critical-stretch damage in
     float32 (:meth:`PMBForceModel.set_precision`); other models are refused by name."""
     from peridynamics.damage.critical_stretch import CriticalStretchLaw
-    from peridynamics.models.pmb import PMBForceModel
+    from peridynamics.families.pmb.force import PMBForceModel
 
     fm = model.force_model
     why = ""

@@ -1,6 +1,6 @@
 """Damage laws: a criterion (parameters, from the deck) and the law it binds to a model's
 points and bonds (``criterion.law(x, bonds)``: trial and commit, see
-:class:`peridynamics.models.base.DamageLaw`)."""
+:class:`peridynamics.families.base.DamageLaw`)."""
 
 from peridynamics.damage.bond_softening import BondSofteningLaw, SofteningBonds
 from peridynamics.damage.critical_stretch import (

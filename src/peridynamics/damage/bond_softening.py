@@ -7,34 +7,29 @@ r = w1/w_c = 0.8/3.6 = 2/9 and beta = sigma1/f_t = 1/3). Unloading and reloading
 the secant to the origin, compression keeps the full stiffness, and a bond whose
 largest stretch reached kappa reaches s_f breaks for good.
 
-s0 is a material strength and does not depend on the horizon delta. s_f is chosen so
-that breaking one bond costs the same energy as the brittle PMB bond of the critical
-stretch s_c that the fracture energy G0 gives at this horizon
-(:meth:`~peridynamics.materials.bond_based.BondBasedMaterial.critical_stretch`):
-int_0^s_f g(s) ds = s_c^2 / 2, i.e.
+s0 is a material strength and does not depend on the horizon delta; s_f is chosen so
+that breaking one bond costs the energy of the brittle PMB bond of the same fracture
+energy G0 (the envelope and its formulas: :mod:`peridynamics.families.pmb_softening`).
 
-* bilinear:  s0 s_f / 2 = s_c^2 / 2                        -> s_f = s_c^2 / s0
-* trilinear: s0^2/2 + s0 (s_f - s0)(r + beta)/2 = s_c^2/2   -> s_f = s0 + (s_c^2/s0 - s0)/(r + beta)
-
-so G0 is conserved whatever delta (docs/theory_bond_based.md, "Tension softening").
+Here are the law's parameters (:class:`SofteningBonds`, which names the family that
+builds the force model, ``force_family``) and the trial/commit law
+(:class:`BondSofteningLaw`), which reads the family's force model through its
+capabilities (``kappa_field``, ``point_sf``, ``trial``) without importing it.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds
-from peridynamics.geometry.cloud import PointCloud
-from peridynamics.models.base import DamageLaw
-from peridynamics.models.pmb_softening import KAPPA, PMBSofteningForceModel
+from peridynamics.families.base import DamageLaw, ForceModel
 
 if TYPE_CHECKING:
-    from peridynamics.models.base import ForceModel
     from peridynamics.state import State
 
 #: Petersson's (1981) trilinear concrete curve: knee at w1/w_c = 0.8/3.6, sigma1 = f_t/3
@@ -43,45 +38,6 @@ PETERSSON_KNEE = (2.0 / 9.0, 1.0 / 3.0)
 BILINEAR_KNEE = (0.5, 0.5)
 
 SofteningLawName = Literal["bilinear", "trilinear"]
-
-
-@dataclass(frozen=True)
-class SofteningEnvelope:
-    """The softening envelope of a bond (stretch units: force = c g(s)).
-
-    Parameters
-    ----------
-    s0 : float
-        Peak stretch f_t / E (dimensionless).
-    s_c : float
-        Critical stretch of the brittle bond with the same fracture energy.
-    s_f : float
-        Stretch at which the bond carries nothing (> s0).
-    r, beta : float
-        Knee: s1 = s0 + r (s_f - s0), g(s1) = beta s0 (0 < r, beta < 1).
-    """
-
-    s0: float
-    s_c: float
-    s_f: float
-    r: float
-    beta: float
-
-    @property
-    def s1(self) -> float:
-        """Stretch of the knee."""
-        return self.s0 + self.r * (self.s_f - self.s0)
-
-    def g(self, s: NDArray[np.float64] | float) -> NDArray[np.float64]:
-        """Envelope g(s), shape like ``s`` (s >= 0)."""
-        from peridynamics.kernels.reference_softening import envelope
-
-        return envelope(np.asarray(s, dtype=np.float64), self.s0, self.s_f, self.r, self.beta)
-
-    def work(self) -> float:
-        """int_0^s_f g(s) ds (exact for the piecewise-linear envelope) = s_c^2 / 2."""
-        s0, s1, sf, b = self.s0, self.s1, self.s_f, self.beta
-        return 0.5 * s0 * s0 + 0.5 * (s1 - s0) * (s0 + b * s0) + 0.5 * (sf - s1) * b * s0
 
 
 def _check_unit(name: str, value: float) -> None:
@@ -106,6 +62,10 @@ class SofteningBonds:
     no_fail : (k,) int array, optional
         Points whose bonds never soften nor break.
     """
+
+    #: the model family (registry name) that builds the force model of this law:
+    #: :func:`peridynamics.families.pmb_softening.force.softening_force_model`
+    force_family: ClassVar[str] = "pmb_softening"
 
     bond_law: SofteningLawName
     tensile_strength: float
@@ -139,65 +99,17 @@ class SofteningBonds:
             return BILINEAR_KNEE
         return PETERSSON_KNEE if self.knee is None else (float(self.knee[0]), float(self.knee[1]))
 
-    def envelope(
-        self,
-        material: object,
-        dim: int,
-        horizon: float,
-        cross_section: float,
-        plane: str | None,
-    ) -> SofteningEnvelope:
-        """The envelope for ``material`` (a BondBasedMaterial) at this horizon (m).
-
-        Raises ValueError when the brittle critical stretch s_c of G0 at this horizon
-        does not exceed s0 = f_t / E: the bond could not reach f_t with that energy."""
-        youngs = getattr(material, "youngs_modulus", None)
-        critical = getattr(material, "critical_stretch", None)
-        if youngs is None or critical is None:
-            raise ValueError(
-                "damage.bond_law: softening bond laws are for bond-based material.model "
-                f"pmb / bond_based (got {type(material).__name__})"
-            )
-        s0 = self.tensile_strength / youngs
-        s_c = float(critical(self.fracture_energy, dim, horizon, cross_section, plane))
-        if not s_c > s0:
-            raise ValueError(
-                f"damage.fracture_energy G0 = {self.fracture_energy:g} J/m^2 gives the "
-                f"brittle critical stretch s_c = {s_c:.6g} at horizon {horizon:.6g} m, not "
-                "above the bond strength s0 = damage.tensile_strength / E = "
-                f"{self.tensile_strength:g} / {youngs:g} = {s0:.6g}: no softening tail is "
-                "left. Use a smaller horizon (s_c grows as 1/sqrt(delta)), a lower "
-                "tensile_strength, a larger fracture_energy, or bond_law 'brittle'"
-            )
-        r, beta = self.knee_point()
-        s_f = s0 + (s_c * s_c / s0 - s0) / (r + beta)
-        return SofteningEnvelope(s0=s0, s_c=s_c, s_f=s_f, r=r, beta=beta)
-
-    def force_model(
-        self, material: object, cloud: PointCloud, bonds: Bonds, surface_correction: bool = False
-    ) -> PMBSofteningForceModel:
-        """The PMB force model with this bond law (what ``Model`` builds instead of the
-        material's own force model when given this damage object)."""
-        from peridynamics.materials.bond_based import BondBasedMaterial
-
-        if not isinstance(material, BondBasedMaterial):
-            raise ValueError(
-                "damage.bond_law: softening bond laws are for bond-based material.model "
-                f"pmb / bond_based (got {type(material).__name__})"
-            )
-        env = self.envelope(material, cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane)
-        return PMBSofteningForceModel(cloud, bonds, material, surface_correction, env, self.no_fail)
-
     def law(
         self, x: NDArray[np.float64], bonds: Bonds, global_ids: NDArray[np.int64] | None = None
     ) -> BondSofteningLaw:
-        """The trial/commit law; ``Model`` binds it to the force model built by
-        :meth:`force_model`."""
+        """The trial/commit law; ``Model`` binds it to the force model of the family
+        :attr:`force_family`."""
         return BondSofteningLaw(self, bonds)
 
 
 class BondSofteningLaw(DamageLaw):
-    """Commits the softening history of a :class:`PMBSofteningForceModel`.
+    """Commits the softening history of a tension-softening PMB force model
+    (:class:`~peridynamics.families.pmb_softening.force.PMBSofteningForceModel`).
 
     ``trial`` computes kappa' = max(kappa, s) of every intact bond and proposes the bonds
     with kappa' >= s_f; ``commit`` writes kappa' into ``state["bond_kappa"]`` and breaks
@@ -210,7 +122,7 @@ class BondSofteningLaw(DamageLaw):
     def __init__(self, criterion: SofteningBonds, bonds: Bonds) -> None:
         self.criterion = criterion
         self.bonds = bonds
-        self.model: PMBSofteningForceModel | None = None
+        self.model: Any = None
         self._kappa = np.zeros(bonds.n_bonds)
         self._proposed = np.zeros(bonds.n_bonds, dtype=np.uint8)
         self._count = 0
@@ -218,18 +130,19 @@ class BondSofteningLaw(DamageLaw):
         self._active = False
 
     def bind(self, force_model: ForceModel) -> None:
-        """Attach the force model whose per-point s0, s_f the law reads."""
-        if not isinstance(force_model, PMBSofteningForceModel):
+        """Attach the force model whose per-point s0, s_f the law reads: one with a
+        softening history (``kappa_field``, ``point_sf``, ``trial``)."""
+        if getattr(force_model, "kappa_field", None) is None:
             raise ValueError(
                 "damage.bond_law: a softening bond law needs its own force model "
-                "(Model builds it from SofteningBonds.force_model)"
+                "(Model builds it from the family SofteningBonds.force_family)"
             )
         self.model = force_model
         b, sf = self.bonds, force_model.point_sf
         self._active = bool(np.isfinite(sf[b.bond_i] + sf[b.bond_j]).any())
 
     @property
-    def fused_model(self) -> PMBSofteningForceModel | None:
+    def fused_model(self) -> Any:
         """The force model whose ``force_and_commit`` runs this law's trial and commit
         inside the force pass (the explicit evaluator's fast path)."""
         return self.model if self.active else None
@@ -239,7 +152,12 @@ class BondSofteningLaw(DamageLaw):
         """False when no bond can fail (unbound, or every bond touches a no-fail point)."""
         return self._active
 
-    def _bound(self) -> PMBSofteningForceModel:
+    @property
+    def proposed(self) -> NDArray[np.uint8]:
+        """The last proposal (n_bonds,) uint8."""
+        return self._proposed
+
+    def _bound(self) -> Any:
         if self.model is None:
             raise RuntimeError("BondSofteningLaw is not bound to a force model (use Model)")
         return self.model
@@ -254,7 +172,7 @@ class BondSofteningLaw(DamageLaw):
         """Write the trial history and break the proposed bonds; returns how many."""
         if not self._ready:
             return 0
-        np.copyto(state[KAPPA], self._kappa)
+        np.copyto(state[self._bound().kappa_field], self._kappa)
         n, self._count, self._ready = self._count, 0, False
         if n:
             state.intact[self._proposed.view(bool)] = 0

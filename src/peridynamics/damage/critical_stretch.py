@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.damage.weibull import WeibullField
-from peridynamics.models.base import DamageLaw
+from peridynamics.families.base import DamageLaw
 
 if TYPE_CHECKING:
     from peridynamics.state import State
@@ -122,6 +122,15 @@ class CriticalStretchLaw(DamageLaw):
     @property
     def active(self) -> bool:
         return bool(np.isfinite(self.point_s0).any())
+
+    def stretch_thresholds(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(point_s0, family_s0_min): what a force model's fused step breaks bonds at."""
+        return self.point_s0, self.family_s0_min
+
+    @property
+    def proposed(self) -> NDArray[np.uint8]:
+        """The last proposal (n_bonds,) uint8."""
+        return self._proposed
 
     def trial(self, state: State) -> int:
         from peridynamics.kernels.bond_based import break_trial

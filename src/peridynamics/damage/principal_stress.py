@@ -5,8 +5,9 @@ PD zero-energy modes (n.d.), eqs 7-11: a bond breaks for good when its stretch
 reaches the critical stretch s_c, or when the average of the largest principal Cauchy
 stresses of its two points reaches the tensile strength f_t,
 ``(sigma_1(x) + sigma_1(x')) / 2 >= f_t`` (either criterion or both). A point whose
-family becomes degenerate (:data:`peridynamics.models.correspondence.DEGENERATE_RATIO`)
-when the proposed bonds break has no deformation gradient left: its remaining bonds
+family becomes degenerate (``degenerate_families`` of the force model,
+:data:`peridynamics.families.correspondence.force.DEGENERATE_RATIO`) when the proposed
+bonds break has no deformation gradient left: its remaining bonds
 break in the same proposal, so that the point is fully damaged.
 """
 
@@ -14,7 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -23,8 +24,23 @@ from peridynamics.bonds.bonds import Bonds
 from peridynamics.damage.critical_stretch import CriticalStretch, CriticalStretchLaw
 
 if TYPE_CHECKING:
-    from peridynamics.models.correspondence import CorrespondenceForceModel
     from peridynamics.state import State
+
+
+class StressModel(Protocol):
+    """The capability the law asks of its force model (the correspondence family
+    provides it): principal stresses and the degenerate-family test."""
+
+    det_reference: NDArray[np.float64]
+
+    def max_principal_stress(
+        self, u: NDArray[np.float64], intact: NDArray[np.uint8]
+    ) -> NDArray[np.float64]: ...
+
+    def degenerate_families(
+        self, intact: NDArray[np.uint8], det: NDArray[np.float64]
+    ) -> NDArray[np.bool_]: ...
+
 
 #: rounds of degenerate-family propagation per proposal (each round breaks the bonds of
 #: the points that the previous round made degenerate)
@@ -78,7 +94,7 @@ class CorrespondenceFailureLaw(CriticalStretchLaw):
         super().__init__(failure.stretch, x, bonds, global_ids)
         self.failure = failure
         self.tensile_strength = float(failure.tensile_strength)
-        self.force_model: CorrespondenceForceModel | None = None
+        self.force_model: StressModel | None = None
         keep = np.zeros(len(bonds.offsets) - 1, dtype=bool)
         if failure.stretch.no_fail is not None and len(failure.stretch.no_fail):
             keep[np.asarray(failure.stretch.no_fail)] = True
@@ -89,8 +105,9 @@ class CorrespondenceFailureLaw(CriticalStretchLaw):
         self._protected = keep[self._bi] | keep[self._bj]
         self.last_stress: NDArray[np.float64] | None = None
 
-    def bind(self, force_model: CorrespondenceForceModel) -> None:
-        """Attach the force model whose stresses and shape tensors the law reads."""
+    def bind(self, force_model: Any) -> None:
+        """Attach the force model whose stresses and shape tensors the law reads (one
+        with the :class:`StressModel` capability, as the correspondence family)."""
         self.force_model = force_model
 
     @property
@@ -122,9 +139,6 @@ class CorrespondenceFailureLaw(CriticalStretchLaw):
 
     def _add_degenerate(self, state: State, proposed: NDArray[np.bool_]) -> None:
         """Propose every intact bond of the points that the proposal leaves degenerate."""
-        from peridynamics.kernels.correspondence import shape_determinant
-        from peridynamics.models.correspondence import DEGENERATE_RATIO
-
         fm = self.force_model
         assert fm is not None
         intact = state.intact.view(bool)
@@ -132,8 +146,7 @@ class CorrespondenceFailureLaw(CriticalStretchLaw):
         det = np.empty(n)
         for _ in range(_DEGENERATE_ROUNDS):
             after = (intact & ~proposed).view(np.uint8)
-            shape_determinant(fm.bond_xi, self.bonds.offsets, fm.weight, after, det)
-            bad = ~(det > DEGENERATE_RATIO * fm.det_reference) & (fm.det_reference > 0)
+            bad = fm.degenerate_families(after, det)
             bad &= np.bincount(self._bi, after, minlength=n) > 0  # still has bonds
             if not bad.any():
                 return

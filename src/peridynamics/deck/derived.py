@@ -48,7 +48,7 @@ def derived_errors(deck: Any) -> Errors:
         return errors
     if not isinstance(m, Material):
         return errors
-    from peridynamics.materials.bond_based import BondBasedMaterial
+    from peridynamics.families.pmb.material import BondBasedMaterial
 
     g, dim = deck.geometry, deck.dim
     plane = getattr(g, "plane", None) if dim == 2 else None

@@ -54,7 +54,7 @@ class Material(FamilySpec):
     def deck_errors(self, deck: Any) -> Errors:
         """The Poisson ratio bond-based PD fixes, the damage law, and an explicit
         micromodulus that a fracture energy cannot calibrate."""
-        from peridynamics.materials.bond_based import fixed_poisson_ratio
+        from peridynamics.families.pmb.material import fixed_poisson_ratio
 
         errors: Errors = []
         dim = deck.dim

@@ -23,7 +23,7 @@ from peridynamics.io.plots import plot_damage, plt
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.model import Model
+    from peridynamics.evaluation import Model
 
 AXES = "xyz"
 UNITS = {

@@ -1,6 +1,7 @@
 """Short-range repulsive contact: cell-list / Verlet-list search and force kernels.
 
-Used by :class:`peridynamics.contact.ShortRangeContact`, which documents the physics.
+Used by :class:`peridynamics.evaluation.short_range_contact.ShortRangeContact`, which
+documents the physics.
 Every pair (i, j) closer than the contact distance ``d_c`` in the CURRENT configuration
 ``y = x + u`` and not joined by an intact bond repels with the pair force density
 (N/m^6, per volume squared)

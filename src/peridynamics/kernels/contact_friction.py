@@ -1,6 +1,8 @@
 """Coulomb friction in the short-range pair contact: Numba kernels and NumPy twin.
 
-Used by :meth:`peridynamics.contact.ShortRangeContact.add_force_with_friction`, which
+Used by
+:meth:`peridynamics.evaluation.short_range_contact.ShortRangeContact.add_force_with_friction`,
+which
 documents the model; the frictionless force pass
 (:func:`peridynamics.kernels.contact.add_contact_force`) is not touched, so a contact
 without friction runs exactly the code it ran before.

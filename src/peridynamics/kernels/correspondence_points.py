@@ -2,7 +2,7 @@
 3 x 3 inverse and the force tensor A = (P - sigma^s) K^-1 of the built-in stress laws.
 The bond kernels are :mod:`peridynamics.kernels.correspondence` (which re-exports
 these); NumPy twins in :mod:`peridynamics.kernels.reference_correspondence` and the
-laws' NumPy interface (:mod:`peridynamics.materials.correspondence`).
+laws' NumPy interface (:mod:`peridynamics.families.correspondence.material`).
 """
 
 from __future__ import annotations

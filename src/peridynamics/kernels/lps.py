@@ -17,12 +17,12 @@ Notation (per directed bond k = (i, j), all bonds of the family of i):
 * ``wv_k = omega_ik beta_k V_j`` (influence function of point i times partial volume,
   m^3); ``wvf_k = omega_jk beta_k V_j`` the same bond weighted by the influence
   function of the far point j. Without the surface correction omega depends on |xi|
-  only and ``wvf = wv``; the correction of :mod:`peridynamics.models.lps` makes omega
+  only and ``wvf = wv``; the correction of :mod:`peridynamics.families.lps.force` makes omega
   a per-point function of the bond direction, so the two differ;
 * ``mu_k`` (``intact``) is 1 for an intact bond, 0 for a broken one.
 
 Equations (Silling et al. 2007, eqs. 82-92 for 3-D; Le, Chan & Schwartz 2014 for 2-D;
-the coefficients are documented in :mod:`peridynamics.materials.lps`):
+the coefficients are documented in :mod:`peridynamics.families.lps.material`):
 
 * weighted volume   m_i = sum_k mu_k wv_k L_k^2                        (m^5)
 * dilatation        theta_i = ts_i sum_k mu_k wv_k L_k e_k,  ts_i = tf / m_i
@@ -39,7 +39,7 @@ With every bond of the family intact, W_i equals the classical LPS energy
 deviatoric extension (``theta_d`` the d-dimensional dilatation, ``k_d`` the
 d-dimensional bulk modulus; the two agree because
 ``sum_k wv_k L_k (e_k - theta_d L_k / d) = 0`` when m_i sums over the same bonds), see
-:mod:`peridynamics.materials.lps`. With broken bonds it is still the exact potential of
+:mod:`peridynamics.families.lps.material`. With broken bonds it is still the exact potential of
 the force above (the force state is the standard one, as in Peridigm), so
 ``V_i f_i = -d(sum_j V_j W_j)/du_i`` holds in every state.
 """

@@ -3,7 +3,7 @@
 Every kernel has a NumPy twin in :mod:`peridynamics.kernels.reference_micropolar`.
 Bond k = (i, j) with unit vectors n = xi/|xi|, n_perp = (-n_y, n_x), weight
 ``w_k = G_k beta_k V_j`` (surface correction times partial volume, m^3) and the springs
-k_n, k_t, k_phi (N/m^6) of :mod:`peridynamics.materials.micropolar`:
+k_n, k_t, k_phi (N/m^6) of :mod:`peridynamics.families.micropolar.material`:
 
     l = (u_j - u_i).n / xi,   gamma = (u_j - u_i).n_perp / xi - (theta_i + theta_j)/2,
     phi = theta_j - theta_i,

@@ -8,7 +8,7 @@ so linear and angular momentum are conserved (PD wave dispersion (n.d.), eqs 45-
 * force density         F_i += sum_k weight_k * mu_k * f_k * n_k            (N/m^3)
 
 with ``lin = b1 * alpha_p`` and ``quad = b2**2 * alpha_q`` (see
-:class:`peridynamics.materials.viscosity.BondViscosity`), ``weight_k = beta_k V_j`` and
+:class:`peridynamics.families.viscosity.BondViscosity`), ``weight_k = beta_k V_j`` and
 mu_k = 0 for a broken bond. Since f_k zeta_k >= 0 the viscous power
 sum_i V_i F_i . v_i = -1/2 sum_k V_i weight_k f_k zeta_k |xi_k| is never positive.
 

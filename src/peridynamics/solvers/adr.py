@@ -23,7 +23,7 @@ velocity (kept by the solver, never in ``state.v``, so that mass damping and vis
 bond forces of the model, which read ``state.v``, stay zero in a static solve).
 
 Fictitious density (ADR-2). It is built from the force model's per-point stiffness
-bound K_i (:meth:`peridynamics.models.base.ForceModel.stiffness_bound`, the same bound
+bound K_i (:meth:`peridynamics.families.base.ForceModel.stiffness_bound`, the same bound
 that gives the explicit step dt_i = sqrt(2 rho / K_i)) as
 
     lambda_i = density_factor / 4 * dt^2 * K_i     (density_factor = 4 by default).
@@ -63,7 +63,7 @@ t_k (time functions evaluated at t_k); with ``proportional=True`` (default) both
 multiplied by lambda_k = k/N as well, so that constant loads ramp up in N equal steps
 (with time functions that already ramp, use ``proportional=False``). One ``step()`` is
 one whole load step: ADR to equilibrium, then the damage law's trial and commit at the
-converged displacement (:meth:`peridynamics.model.Model.commit_damage`); when bonds
+converged displacement (:meth:`peridynamics.evaluation.model.Model.commit_damage`); when bonds
 broke, ADR re-converges at the same load and damage is committed again, up to
 ``max_damage_rounds`` times. Each equilibrium solve restarts ADR from U' = 0 (ADR-6) at
 the current displacement; with ``extrapolate=True`` the free dofs of a new load step
@@ -88,8 +88,8 @@ import numpy as np
 from numba import njit, prange
 from numpy.typing import NDArray
 
+from peridynamics.evaluation import Model
 from peridynamics.loading.conditions import Kinematic, PrescribedVelocity
-from peridynamics.model import Model
 from peridynamics.solvers.base import StepResult
 from peridynamics.solvers.explicit import SimulationUnstable
 from peridynamics.state import State

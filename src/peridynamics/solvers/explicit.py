@@ -15,6 +15,7 @@ from typing import Any, Literal
 
 import numpy as np
 
+from peridynamics.evaluation import Model
 from peridynamics.kernels import bond_based, integrators
 from peridynamics.loading.conditions import (
     Fixed,
@@ -22,7 +23,6 @@ from peridynamics.loading.conditions import (
     PrescribedDisplacement,
     PrescribedVelocity,
 )
-from peridynamics.model import Model
 from peridynamics.solvers.base import StepResult
 from peridynamics.state import State
 
@@ -59,7 +59,7 @@ class UnstableTimeStep(ValueError):
 
 @dataclass
 class ExplicitSolver:
-    """Explicit time integration of a :class:`~peridynamics.model.Model`.
+    """Explicit time integration of a :class:`~peridynamics.evaluation.model.Model`.
 
     Parameters
     ----------

@@ -22,12 +22,12 @@ from numpy.typing import NDArray
 from peridynamics.bonds import build_bonds
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.damage import NO_DAMAGE
+from peridynamics.evaluation import Model
+from peridynamics.families.pmb.force import PMBForceModel
+from peridynamics.families.pmb.material import BondBasedMaterial
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels.fdm import fdm_force_1d
 from peridynamics.loading.conditions import BodyForce
-from peridynamics.materials.bond_based import BondBasedMaterial
-from peridynamics.model import Model
-from peridynamics.models.pmb import PMBForceModel
 from peridynamics.state import State
 
 

@@ -14,7 +14,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from peridynamics.model import Model
+from peridynamics.evaluation import Model
 from peridynamics.solvers.base import StepResult
 from peridynamics.solvers.explicit import ExplicitSolver
 from peridynamics.state import State

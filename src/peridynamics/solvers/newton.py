@@ -7,9 +7,9 @@ Equations (Zhou, Zhu & Li (n.d.), eqs 13-20). The total potential energy
 displacement, and the rotation of a micropolar model) is stationary at equilibrium:
 the unbalanced force ``P = V (f_int(q) + b)`` vanishes at the free dofs. Newton's method
 solves ``K dq = P`` with the tangent ``K = d^2 E / dq^2`` of the force model
-(:meth:`peridynamics.models.base.ForceModel.tangent`; the coloured finite-difference
+(:meth:`peridynamics.families.base.ForceModel.tangent`; the coloured finite-difference
 tangent for a model without one), assembled bond-wise with no Python loop over bonds
-(:mod:`peridynamics.models.assembly`). Prescribed displacements are imposed by
+(:mod:`peridynamics.families.assembly`). Prescribed displacements are imposed by
 elimination: their dofs take the prescribed value and leave the system, whose free
 block is solved by a direct or an iterative solver (:mod:`peridynamics.solvers.linear`,
 chosen by size unless ``linear_solver`` says otherwise).
@@ -55,9 +55,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.damage.critical_stretch import CriticalStretchLaw
+from peridynamics.evaluation import Model
 from peridynamics.loading.conditions import Fixed, Kinematic, PrescribedVelocity
 from peridynamics.loading.time_functions import Constant
-from peridynamics.model import Model
 from peridynamics.solvers import linear as lin
 from peridynamics.solvers.base import StepResult
 from peridynamics.solvers.breaking import PairBreaker

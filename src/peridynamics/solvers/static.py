@@ -3,7 +3,7 @@
 ``K u = V (b + f(0))`` with ``K = -d(V f)/du`` the tangent at the reference state
 (N/m), ``V b`` the external force per point (N) and Dirichlet conditions on chosen
 degrees of freedom; the tangent is the model's analytic one when it has one, else the
-finite-difference tangent of :mod:`peridynamics.models.tangent`.
+finite-difference tangent of :mod:`peridynamics.families.tangent`.
 """
 
 from __future__ import annotations
@@ -15,17 +15,17 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import ArrayLike, NDArray
 
-from peridynamics.models.tangent import finite_difference_tangent
+from peridynamics.families.tangent import finite_difference_tangent
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.models.base import ForceModel
+    from peridynamics.families.base import ForceModel
 
 
 def reference_state(model: ForceModel) -> State:
     """A State at the reference configuration: zero u, v, force, body; ``intact`` from
     the bond list (pre-cracks broken); zero ``max_stretch`` and every field the model
-    declares (:meth:`~peridynamics.models.base.ForceModel.state_fields`)."""
+    declares (:meth:`~peridynamics.families.base.ForceModel.state_fields`)."""
     n, d = model.n_points, model.dim
     fields: dict[str, NDArray] = {
         "u": np.zeros((n, d)),

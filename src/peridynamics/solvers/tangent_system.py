@@ -20,7 +20,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from peridynamics.model import Model
+from peridynamics.evaluation import Model
 from peridynamics.solvers import linear as lin
 from peridynamics.state import State
 

@@ -24,7 +24,7 @@ from peridynamics.solvers.base import StepResult
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.model import Model
+    from peridynamics.evaluation import Model
 
 COMP = {"x": 0, "y": 1, "z": 2}
 

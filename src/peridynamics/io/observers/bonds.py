@@ -14,7 +14,7 @@ from peridynamics.io.observers.base import Observer, RunContext
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.model import Model
+    from peridynamics.evaluation import Model
 
 
 class BondList(Observer):

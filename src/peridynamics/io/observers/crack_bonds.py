@@ -19,7 +19,7 @@ from peridynamics.analysis.crack_length import (
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.model import Model
+    from peridynamics.evaluation import Model
 
 
 def _interfaces(model: Model) -> tuple[Any, ...]:

@@ -16,7 +16,7 @@ from peridynamics.solvers.base import StepResult
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.model import Model
+    from peridynamics.evaluation import Model
 
 
 class CrackBranching(Observer):
@@ -135,7 +135,7 @@ class CrackPaths(Observer):
 
     def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
         from peridynamics.analysis.crack_path import rayleigh_speed, tip_speed_from_paths
-        from peridynamics.materials.bond_based import fixed_poisson_ratio
+        from peridynamics.families.pmb.material import fixed_poisson_ratio
 
         m, r = self.model, ctx.records
         mat = m.material

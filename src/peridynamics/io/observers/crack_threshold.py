@@ -16,7 +16,7 @@ from peridynamics.io.observers.crack_bonds import broken_pairs
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.model import Model
+    from peridynamics.evaluation import Model
 
 #: half-width of the damage band around a threshold that counts as "at the threshold"
 THRESHOLD_BAND = 0.03

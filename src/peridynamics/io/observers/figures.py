@@ -14,7 +14,7 @@ from peridynamics.io.plots import plot_damage, plot_histories, plt
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.model import Model
+    from peridynamics.evaluation import Model
 
 
 class Figure(Observer):

@@ -31,7 +31,7 @@ from peridynamics.solvers.base import StepResult
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.model import Model
+    from peridynamics.evaluation import Model
 
 
 def frame_fields(output: Output, s: State, damage: NDArray) -> dict[str, NDArray]:

@@ -19,7 +19,7 @@ from peridynamics.io.observers.history import History
 from peridynamics.io.observers.waves import BlastRecord, WaveOutputs
 
 if TYPE_CHECKING:
-    from peridynamics.model import Model
+    from peridynamics.evaluation import Model
 
 #: every observer class by name (the order of a run is :func:`observers_for`'s)
 OBSERVERS: dict[str, type[Observer]] = {

@@ -14,7 +14,7 @@ from peridynamics.io.observers.base import Blast, Observer, RunContext, RunOptio
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.model import Model
+    from peridynamics.evaluation import Model
 
 
 class WaveOutputs(Observer):

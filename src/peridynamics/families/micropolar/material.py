@@ -48,24 +48,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
-if TYPE_CHECKING:
-    from peridynamics.bonds.bonds import Bonds
-    from peridynamics.geometry.cloud import PointCloud
-    from peridynamics.models.micropolar import MicropolarForceModel
+from peridynamics.bonds.bonds import Bonds
+from peridynamics.families import moduli
+from peridynamics.families.micropolar.force import MicropolarForceModel
+from peridynamics.families.micropolar.springs import SpringConstants
+from peridynamics.geometry.cloud import PointCloud
 
 #: k_phi / k_t of the beam-lattice relation (the default)
 BEAM_ROTATIONAL_RATIO = 1.0 / 12.0
-
-
-@dataclass(frozen=True)
-class SpringConstants:
-    """The three bond spring constants (N/m^6 per unit stretch, shear, rotation)."""
-
-    axial: float
-    shear: float
-    rotational: float
 
 
 @dataclass(frozen=True)
@@ -120,23 +111,17 @@ class MicropolarMaterial:
 
     def bulk_modulus_2d(self, plane: str | None) -> float:
         """2-D bulk modulus kappa (Pa): E/(2(1-nu)) (stress), E/(2(1+nu)(1-2nu)) (strain)."""
-        E, nu = self.youngs_modulus, self.poisson_ratio
-        if plane == "strain":
-            return E / (2.0 * (1.0 + nu) * (1.0 - 2.0 * nu))
-        return E / (2.0 * (1.0 - nu))
+        return moduli.plane_bulk_modulus(self.youngs_modulus, self.poisson_ratio, plane)
 
     @property
     def shear_modulus(self) -> float:
         """mu = E / (2 (1 + nu)) (Pa)."""
-        return self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
+        return moduli.shear_modulus(self.youngs_modulus, self.poisson_ratio)
 
     def in_plane_moduli(self, plane: str | None) -> tuple[float, float]:
         """(E', nu') of the 2-D stress-strain law: (E/(1-nu^2), nu/(1-nu)) in plane
         strain, (E, nu) in plane stress."""
-        E, nu = self.youngs_modulus, self.poisson_ratio
-        if plane == "strain":
-            return E / (1.0 - nu * nu), nu / (1.0 - nu)
-        return E, nu
+        return moduli.in_plane_moduli(self.youngs_modulus, self.poisson_ratio, 2, plane)
 
     def c11(self, plane: str | None) -> float:
         """sigma_xx / eps_xx under uniaxial strain (Pa): E'/(1 - nu'^2)."""
@@ -216,8 +201,6 @@ class MicropolarMaterial:
         self, cloud: PointCloud, bonds: Bonds, surface_correction: bool = False
     ) -> MicropolarForceModel:
         """The micropolar force model of this material on ``cloud`` and ``bonds``."""
-        from peridynamics.models.micropolar import MicropolarForceModel
-
         return MicropolarForceModel(cloud, bonds, self, surface_correction=surface_correction)
 
 

@@ -1,5 +1,9 @@
 """Strain-energy-density softening of bond stiffness (SED-PD (2021), eqs 18-24)
-composed around a bond-based force model.
+composed around a bond-based force model (one that declares the capability
+``sed_softening``: a per-bond ``stiffness`` rescaled in place).
+
+The parameters are :class:`peridynamics.damage.sed.SEDSoftening` (levels, thresholds,
+residual factor), read here through :class:`SEDParameters`.
 
 The levels (``state["sed_level"]``, a history field) rise irreversibly with the point
 strain energy density computed with the initial moduli; the bond stiffness is
@@ -9,17 +13,28 @@ force evaluation on.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
-from peridynamics.damage.sed import SEDSoftening
 from peridynamics.kernels.sed import sed_levels, sed_stiffness, sed_stiffness_raised, sed_update
 
 if TYPE_CHECKING:
-    from peridynamics.models.pmb import PMBForceModel
     from peridynamics.state import State
+
+
+class SEDParameters(Protocol):
+    """What the softening reads of its parameters
+    (:class:`~peridynamics.damage.sed.SEDSoftening`)."""
+
+    levels: int
+    residual: float
+    energy: str
+
+    def thresholds(
+        self, youngs_modulus: float, point_s0: NDArray[np.float64]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]: ...
 
 
 class SoftenedStiffness:
@@ -27,8 +42,8 @@ class SoftenedStiffness:
 
     Parameters
     ----------
-    softening : SEDSoftening
-    force_model : PMBForceModel
+    softening : SEDSoftening (:class:`SEDParameters`)
+    force_model : PMBForceModel (a model with ``sed_softening``)
     youngs_modulus : float
         E (Pa) of the thresholds W_A = E s^2 / 2, W_C = k_c W_A.
     point_s0 : (n,) critical stretch per point (inf: never softens).
@@ -36,8 +51,8 @@ class SoftenedStiffness:
 
     def __init__(
         self,
-        softening: SEDSoftening,
-        force_model: PMBForceModel,
+        softening: SEDParameters,
+        force_model: Any,
         youngs_modulus: float,
         point_s0: NDArray[np.float64],
     ) -> None:

@@ -6,13 +6,20 @@ runs a per-point pre-pass (LPS: the dilatation) whose results the force pass rea
 both ends of each bond, and evaluates forces *purely*: it never breaks a bond. It also
 gives its strain energy, a per-point stiffness bound (stable time step, fictitious
 density of dynamic relaxation) and, where it has one, a sparse tangent; every model
-has the finite-difference tangent of :mod:`peridynamics.models.tangent` as fallback
-and test oracle.
+has the finite-difference tangent of :mod:`peridynamics.families.tangent` as fallback
+and test oracle. Capabilities a family may declare (the evaluator asks them and never
+tests a class): a fused explicit step (:meth:`ForceModel.fused_step`: the damage law's
+trial and commit inside the force pass), per-point counts of the bonds that step broke
+(:attr:`ForceModel.broken_counts`), a bond stiffness that SED softening rescales
+(:attr:`ForceModel.sed_softening`) and a local damage of its own
+(:meth:`ForceModel.point_damage`, several bodies with interfaces).
 
 A **damage law** proposes (``trial``) which bonds fail at a state; the solver decides
 when to ``commit`` the proposal (explicit dynamics: every step; dynamic relaxation and
 static solvers: on an accepted load step). The history it changes (``intact``) lives
-in the :class:`~peridynamics.state.State`.
+in the :class:`~peridynamics.state.State`. The interface lives here, below both the
+families and the laws (:mod:`peridynamics.damage`), so that a family can name the law
+it fuses with and a law the force model it reads, without importing each other.
 
 Units: force densities N/m^3, energy densities J/m^3, stiffness bounds N/m^4 (so that
 ``dt_i = sqrt(2 rho_i / K_i)`` is a time for a density in kg/m^3), tangents N/m.
@@ -22,7 +29,7 @@ from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar, NamedTuple
 
 import numpy as np
 import scipy.sparse as sp
@@ -52,6 +59,27 @@ class Dof:
     components: int
 
 
+class FusedStep(NamedTuple):
+    """What a fused explicit step (:meth:`ForceModel.fused_step`) did (a named tuple:
+    cheap to make once per explicit step).
+
+    Attributes
+    ----------
+    broken : int
+        Directed bonds broken (not yet added to ``state.bonds_broken``: the evaluator
+        adds them).
+    counted : bool
+        The force model's :attr:`~ForceModel.broken_counts` hold this step's bonds broken
+        per point (a decomposed run counts its owned points' bonds from them).
+    energy_done : bool
+        The step also computed the SED-softening energy (``sed.energy``).
+    """
+
+    broken: int
+    counted: bool = True
+    energy_done: bool = False
+
+
 @dataclass(frozen=True)
 class FieldSpec:
     """A field a model family adds to the State: per point (``(n, components)`` or
@@ -77,6 +105,9 @@ class ForceModel(ABC):
     """
 
     name: ClassVar[str] = ""
+    #: capability: a per-bond ``stiffness`` that SED softening may rescale in place
+    #: (:mod:`peridynamics.families.pmb_sed`)
+    sed_softening: ClassVar[bool] = False
     cloud: PointCloud
     bonds: Bonds
 
@@ -160,6 +191,30 @@ class ForceModel(ABC):
     def on_restore(self, state: State) -> None:  # noqa: B027 - optional hook
         """Rebuild derived quantities after a State was read from a checkpoint."""
 
+    def init_state(self, state: State) -> None:  # noqa: B027 - optional hook
+        """Set the fields of :meth:`state_fields` that do not start at zero (default:
+        none; interface bonds of several bodies start as built)."""
+
+    # -- capabilities ---------------------------------------------------------------------
+    def fused_step(self, state: State, law: DamageLaw, sed: Any = None) -> FusedStep | None:
+        """Explicit fast path: ``law``'s trial and commit and :meth:`force` in one pass
+        (the same bits as the calls in turn), with the SED energy of ``sed`` where the
+        family can; ``None`` (the default) when this model does not fuse with ``law``,
+        and then the evaluator calls them in turn."""
+        return None
+
+    @property
+    def broken_counts(self) -> NDArray[np.int64] | None:
+        """Bonds broken per owned point by the last fused step (n_owned,), or None."""
+        return None
+
+    def point_damage(
+        self, intact: NDArray[np.uint8], interface_intact: NDArray[np.uint8] | None
+    ) -> NDArray[np.float64] | None:
+        """Local damage phi (n,) of a model whose bonds are not all in ``bonds``
+        (interfaces between bodies); None (the default): the evaluator's, from ``bonds``."""
+        return None
+
 
 class DamageLaw(ABC):
     """Decides which bonds fail. ``trial`` proposes, ``commit`` applies."""
@@ -171,6 +226,10 @@ class DamageLaw(ABC):
         """False for a law that never breaks anything."""
         return True
 
+    def bind(self, force_model: ForceModel) -> None:  # noqa: B027 - optional hook
+        """Attach the force model the law reads (stresses, softening history); default:
+        the law reads none."""
+
     @abstractmethod
     def trial(self, state: State) -> int:
         """Propose the bonds that fail at ``state`` (kept by the law until
@@ -181,3 +240,21 @@ class DamageLaw(ABC):
     def commit(self, state: State) -> int:
         """Apply the last proposal to ``state.intact`` (and ``state.bonds_broken``);
         returns the number of directed bonds broken."""
+
+    # -- capabilities (what force models and the evaluator may ask) -----------------------
+    def stretch_thresholds(self) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
+        """(point_s0 (n,), family_s0_min (n,)) of a critical-stretch law, which a force
+        model may apply inside its force pass; None (default) for other laws."""
+        return None
+
+    @property
+    def fused_model(self) -> ForceModel | None:
+        """The force model that runs this law's trial and commit inside its force pass
+        (its :meth:`ForceModel.fused_step`), or None (default)."""
+        return None
+
+    @property
+    def proposed(self) -> NDArray[np.uint8] | None:
+        """The last proposal, a (n_bonds,) uint8 flag per directed bond, or None for a
+        law that keeps none (a decomposed run counts its owned bonds from it)."""
+        return None

@@ -23,16 +23,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Literal
+from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
-from peridynamics.bonds.bonds import Bonds
+from peridynamics.bonds.bonds import Bonds, setup_chunk_bonds
+from peridynamics.bonds.search import bond_chunks
+from peridynamics.families.moduli import pmb_micromodulus
+from peridynamics.families.pmb.force import PMBForceModel
 from peridynamics.geometry.cloud import PointCloud
-
-if TYPE_CHECKING:
-    from peridynamics.models.pmb import PMBForceModel
 
 Profile = Literal["constant", "conical"]
 PROFILES: tuple[str, ...] = ("constant", "conical")
@@ -109,14 +109,7 @@ class BondBasedMaterial:
         (or the value given as ``micromodulus_value``)."""
         if self.micromodulus_value is not None:
             return float(self.micromodulus_value)
-        E, d = self.youngs_modulus, horizon
-        if dim == 1:
-            return 2.0 * E / (cross_section * d**2)
-        if dim == 2:
-            if plane == "strain":
-                return 48.0 * E / (5.0 * math.pi * cross_section * d**3)
-            return 9.0 * E / (math.pi * cross_section * d**3)
-        return 12.0 * E / (math.pi * d**4)
+        return pmb_micromodulus(self.youngs_modulus, dim, horizon, cross_section, plane)
 
     def micromodulus(
         self,
@@ -138,9 +131,6 @@ class BondBasedMaterial:
         """stiffness_k = c(|xi_k|) * beta_k V_j * lambda_k (N/m^3 per unit stretch), shape
         (n_bonds,); made range by range, so lengths and volumes the bond list does not
         hold are not kept."""
-        from peridynamics.bonds.bonds import setup_chunk_bonds
-        from peridynamics.bonds.search import bond_chunks
-
         out = np.empty(bonds.n_bonds)
         for a, b in bond_chunks(bonds.offsets, setup_chunk_bonds(cloud.dim)):
             c = self.micromodulus(
@@ -198,8 +188,6 @@ class BondBasedMaterial:
         self, cloud: PointCloud, bonds: Bonds, surface_correction: bool = False
     ) -> PMBForceModel:
         """The PMB force model of this material on ``bonds``."""
-        from peridynamics.models.pmb import PMBForceModel
-
         return PMBForceModel(cloud, bonds, self, surface_correction)
 
     def wave_speed(self) -> float:

@@ -23,7 +23,7 @@ from numpy.typing import NDArray
 from peridynamics.bonds.bonds import Bonds
 
 if TYPE_CHECKING:
-    from peridynamics.models.base import ForceModel
+    from peridynamics.families.base import ForceModel
     from peridynamics.state import State
 
 #: default perturbation relative to the grid spacing: central differences of the

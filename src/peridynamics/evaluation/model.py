@@ -1,6 +1,6 @@
 """The model evaluator: owns the physics order of one force evaluation.
 
-A :class:`Model` composes a force model (one model family, :mod:`peridynamics.models`)
+A :class:`Model` composes a force model (one model family, :mod:`peridynamics.families`)
 with a damage law, the optional extras and the external loads, and is the one place
 that calls their kernels and the communicator. The order of one evaluation
 (:meth:`Model.evaluate`) is:
@@ -20,9 +20,13 @@ the displacement, the velocity and any further dof group (rotations) through
 rank that holds them (:mod:`peridynamics.parallel.local`), so the pre-pass fields they
 need at both ends of a bond are computed there and need no second exchange.
 
-External loads are filled separately by :meth:`Model.external_force`. For PMB with a
-committing critical-stretch law, steps 1 and 3 (and in 2-D the SED energy of step 4)
-run as one pass over the bonds, which gives the same bits as the separate calls.
+External loads are filled separately by :meth:`Model.external_force`. A force model
+that declares a fused step (:meth:`~peridynamics.families.base.ForceModel.fused_step`:
+PMB with a committing critical-stretch law, the tension-softening bonds with their law,
+several bodies each their way) runs steps 1 and 3 (PMB in 2-D also the SED energy of
+step 4) as one pass over the bonds, which gives the same bits as the separate calls.
+The energies, damage, stresses and the stable step are
+:class:`~peridynamics.evaluation.measures.Measures`.
 """
 
 from __future__ import annotations
@@ -35,25 +39,24 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from peridynamics.bodies.composite import CompositeForceModel
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.communicator import Communicator, active_comm
-from peridynamics.damage.critical_stretch import NO_DAMAGE, CriticalStretchLaw
+from peridynamics.damage.critical_stretch import NO_DAMAGE
 from peridynamics.damage.sed import SEDSoftening
+from peridynamics.evaluation.measures import Measures
+from peridynamics.families.base import DamageLaw, ForceModel
+from peridynamics.families.pmb_sed import SoftenedStiffness
+from peridynamics.families.registry import build_force_model
+from peridynamics.families.tangent import finite_difference_tangent
+from peridynamics.families.viscosity import BondViscosity
 from peridynamics.geometry.cloud import PointCloud
-from peridynamics.kernels import bond_based
 from peridynamics.kernels.viscous import add_viscous_force
 from peridynamics.loading.conditions import BodyForce
-from peridynamics.materials.viscosity import BondViscosity
-from peridynamics.models.base import DamageLaw, ForceModel
-from peridynamics.models.pmb import PMBForceModel
-from peridynamics.models.pmb_softening import PMBSofteningForceModel
-from peridynamics.models.softening import SoftenedStiffness
 from peridynamics.state import State
 
 
 @dataclass
-class Model:
+class Model(Measures):
     """A peridynamic body: force model + damage law + extras + loads.
 
     Parameters
@@ -61,14 +64,14 @@ class Model:
     cloud : PointCloud
     bonds : Bonds
     material : object with ``force_model(cloud, bonds, surface_correction)``
-        :class:`~peridynamics.materials.bond_based.BondBasedMaterial` (PMB) or
-        :class:`~peridynamics.materials.lps.LPSMaterial` (LPS); its ``youngs_modulus``
+        :class:`~peridynamics.families.pmb.material.BondBasedMaterial` (PMB) or
+        :class:`~peridynamics.families.lps.material.LPSMaterial` (LPS); its ``youngs_modulus``
         and ``density`` are read by the extras.
     damage : CriticalStretch, CorrespondenceFailure or SofteningBonds
         Failure criterion with a ``law(x, bonds)`` method; ``NO_DAMAGE`` keeps every
-        bond. A criterion that also has ``force_model(material, cloud, bonds,
-        surface_correction)`` (the tension-softening bond laws) builds the force model
-        in place of the material.
+        bond. A criterion that names a model family (``force_family``: the
+        tension-softening bond laws) has that family build the force model in place of
+        the material (:func:`~peridynamics.families.registry.build_force_model`).
     body_forces : sequence of BodyForce
         Force-like loads (body forces, tractions spread over a layer).
     surface_correction : bool
@@ -111,11 +114,9 @@ class Model:
 
     def __post_init__(self) -> None:
         c = self.cloud
-        shaped = getattr(self.damage, "force_model", None)  # a bond law that shapes the force
-        if shaped is not None:
-            self.force_model = shaped(self.material, c, self.bonds, self.surface_correction)
-        else:
-            self.force_model = self.material.force_model(c, self.bonds, self.surface_correction)
+        self.force_model = build_force_model(
+            self.material, self.damage, c, self.bonds, self.surface_correction
+        )
         self.bonds = self.force_model.bonds  # with the surface-correction factors
         law_for = getattr(self.damage, "law_for", None)  # several bodies: per-body laws
         self.damage_law = (
@@ -123,9 +124,7 @@ class Model:
             if law_for is not None
             else self.damage.law(c.x, self.bonds, c.global_ids)
         )
-        bind = getattr(self.damage_law, "bind", None)
-        if bind is not None:  # a law that reads the force model (stresses, shape tensors)
-            bind(self.force_model)
+        self.damage_law.bind(self.force_model)  # a law that reads the force model
         self.time_step = 1.0  # set by an explicit solver: the friction law reads it
         self.friction_power = 0.0  # W, of the last evaluation (<= 0)
         self.density = np.full(c.n_points, self.material.density)
@@ -133,7 +132,7 @@ class Model:
             raise ValueError(f"damping must be >= 0 (1/s), got {self.damping}")
         self._sed: SoftenedStiffness | None = None
         if self.softening is not None:
-            if not isinstance(self.force_model, PMBForceModel):
+            if not self.force_model.sed_softening:
                 raise ValueError(
                     "damage.sed_softening softens bond stiffness and needs material.model "
                     f"'pmb' (got {self.force_model.name!r})"
@@ -150,21 +149,6 @@ class Model:
                 self.material.youngs_modulus,
                 self.material.density,
             )
-
-    @property
-    def dim(self) -> int:
-        """Spatial dimension."""
-        return self.cloud.dim
-
-    @property
-    def inv_length(self) -> NDArray[np.float64]:
-        """1/|xi| (1/m), shape (n_bonds,), made by the bond list on first use."""
-        return self.bonds.inv_length
-
-    @property
-    def n_points(self) -> int:
-        """Number of points."""
-        return self.cloud.n_points
 
     @property
     def point_s0(self) -> NDArray[np.float64]:
@@ -184,19 +168,11 @@ class Model:
     def family_s0_min(self, value: NDArray[np.float64]) -> None:
         self._critical_law().family_s0_min = value
 
-    def _critical_law(self) -> CriticalStretchLaw:
+    def _critical_law(self) -> Any:
         law = self.damage_law
-        if not isinstance(law, CriticalStretchLaw):
+        if law.stretch_thresholds() is None:
             raise AttributeError(f"the damage law {law.name!r} has no critical stretch")
         return law
-
-    @property
-    def stiffness(self) -> NDArray[np.float64]:
-        """Bond stiffness (N/m^6 m^3) of a bond-based force model (raises otherwise)."""
-        k = getattr(self.force_model, "stiffness", None)
-        if k is None:
-            raise AttributeError(f"the {self.force_model.name!r} model has no bond stiffness")
-        return k
 
     # -- state -------------------------------------------------------------------------
     def new_state(self) -> State:
@@ -215,9 +191,7 @@ class Model:
             for name in (dof.value, dof.rate, dof.force, dof.body):
                 s[name] = np.zeros((n, dof.components))
         self._add_force_model_fields(s)
-        init = getattr(self.force_model, "init_state", None)
-        if init is not None:  # fields that do not start at zero (interface bonds)
-            init(s)
+        self.force_model.init_state(s)  # fields that do not start at zero (interface bonds)
         if self._sed is not None:
             s["sed_level"] = np.zeros(n, dtype=np.int64)
         if self.rigid is not None:
@@ -237,13 +211,6 @@ class Model:
         the last evaluation times dt, to the State field ``friction_work``."""
         if "friction_work" in state:
             state["friction_work"][0] -= self.friction_power * dt
-
-    def inertia(self, k: int) -> NDArray[np.float64]:
-        """Mass density of dof group k of the force model (kg/m^3 for displacements,
-        kg/m for rotations: rho times the model's inertia factor), shape (n,)."""
-        if k == 0:
-            return self.density
-        return self.density * self.force_model.dof_inertia(k)
 
     def _add_force_model_fields(self, s: State) -> None:
         """Allocate the fields the force model declares, sized from ``s.u`` (points) and
@@ -275,32 +242,12 @@ class Model:
         fused = False  # breaking inside the force pass (its per-point counts)
         if self.comm.size > 1:
             self.exchange_dofs(state)
-        if (
-            commit
-            and isinstance(fm, PMBForceModel)
-            and fm.fused_breaking
-            and isinstance(law, CriticalStretchLaw)
-        ):
-            if sed is not None and self.dim == 2:  # forces and SED energy in one pass
-                broken = fm.force_sed_and_break(
-                    state, law.point_s0, law.family_s0_min, sed.k0l, sed.tensile, sed.energy
-                )
-                energy_done = True
-            else:
-                broken = fm.force_and_break(state, law.point_s0, law.family_s0_min)
+        step = fm.fused_step(state, law, sed) if commit else None
+        if step is not None:  # the law's trial and commit inside the force pass
+            broken = step.broken
             state.bonds_broken += broken
-            fused = True
-        elif commit and isinstance(fm, CompositeForceModel):  # several bodies, each its way
-            broken = fm.force_and_commit(state, law)  # type: ignore[arg-type]
-            state.bonds_broken += broken
-        elif (
-            commit
-            and isinstance(fm, PMBSofteningForceModel)
-            and getattr(law, "fused_model", None) is fm
-        ):  # softening bonds: the law's trial and commit run inside the force pass
-            broken = fm.force_and_commit(state)
-            state.bonds_broken += broken
-            fused = True
+            fused = step.counted
+            energy_done = step.energy_done
         else:
             if commit and law.active:
                 law.trial(state)
@@ -327,11 +274,11 @@ class Model:
         break theirs too, as their owners do): from the per-point counts of a force pass
         that breaks bonds (``fused``) or from the damage law's proposal."""
         n_own = self.comm.n_owned
-        fm, law = self.force_model, self.damage_law
-        scratch = getattr(fm, "_broken_scratch", None)
-        if fused and scratch is not None:
-            return int(scratch[:n_own].sum())
-        proposed = getattr(law, "_proposed", None)
+        counts = self.force_model.broken_counts
+        if fused and counts is not None:
+            return int(counts[:n_own].sum())
+        law = self.damage_law
+        proposed = law.proposed
         if proposed is None:
             raise RuntimeError(f"the damage law {law.name!r} cannot count owned bonds")
         return int(np.count_nonzero(proposed[: self.owned_bonds]))
@@ -415,24 +362,8 @@ class Model:
         one, else the finite-difference tangent."""
         k = self.force_model.tangent(state)
         if k is None:
-            from peridynamics.models.tangent import finite_difference_tangent
-
             k = finite_difference_tangent(self.force_model, state)
         return k
-
-    def viscous_power(self, u: NDArray, v: NDArray, intact: NDArray[np.uint8]) -> float:
-        """Power of the viscous forces sum_i V_i F_visc_i . v_i (W); never positive. 0 for
-        a model without viscosity."""
-        if self._viscous is None:
-            return 0.0
-        b = self.bonds
-        f = np.zeros_like(u)
-        add_viscous_force(
-            self.cloud.x, u, v, b.offsets, b.bond_j, self.inv_length, b.bond_volume,
-            intact, self._viscous[0], self._viscous[1], f,
-        )  # fmt: skip
-        own = self.comm.owned
-        return self.comm.sum(float(np.sum(self.cloud.volume[own, None] * f[own] * v[own])))
 
     def external_force(self, t: float, out: NDArray) -> None:
         """Fill ``out`` (n, dim) with the external body-force density at time t (N/m^3)."""
@@ -441,174 +372,3 @@ class Model:
         out.fill(0.0)
         for load in self.body_forces:
             load.add_to(out, t)
-
-    def strain_energy_density(self, u: NDArray, intact: NDArray[np.uint8]) -> NDArray:
-        """W_i (J/m^3), shape (n,), of the force model. ``energy_density`` recomputes
-        its per-point reductions (dilatation, deformation gradient) from ``u`` itself, so
-        no pre-pass is run here."""
-        s = State(u=u, intact=intact)
-        self._add_force_model_fields(s)
-        return self.force_model.energy_density(s)
-
-    def strain_energy(self, u: NDArray, intact: NDArray[np.uint8]) -> float:
-        """Total strain energy sum W_i V_i (J), reduced over ranks."""
-        # np.sum, not @: a BLAS dot can wake OpenBLAS threads that then spin against
-        # Numba's workers and slow the next force evaluations
-        own = self.comm.owned
-        w = self.strain_energy_density(u, intact)[own]
-        local = float(np.sum(w * self.cloud.volume[own]))
-        return self.comm.sum(local)
-
-    def state_energies(self, s: State) -> tuple[float, float]:
-        """(kinetic, strain) energy (J) of a State, rotations included, over ranks."""
-        fm = self.force_model
-        groups = fm.dofs()
-        if len(groups) == 1 and not any(f.history for f in fm.state_fields()):
-            # displacement only, no history (softening bonds): the energy of (u, intact)
-            strain = self.strain_energy(s.u, s.intact)
-        else:  # further dof groups (rotations) live in the State
-            own = self.comm.owned
-            w = fm.energy_density(s)[own]
-            strain = self.comm.sum(float(np.sum(w * self.cloud.volume[own])))
-        kinetic = self.kinetic_energy(s.v)
-        if self.rigid is not None:  # free rigid bodies (strikers)
-            kinetic += self.rigid.kinetic_energy(s)
-        for k, dof in enumerate(groups[1:], start=1):
-            own = self.comm.owned
-            rate = s[dof.rate][own]
-            mass = (self.inertia(k) * self.cloud.volume)[own]
-            local = 0.5 * np.sum(mass * np.sum(rate * rate, axis=1))
-            kinetic += self.comm.sum(float(local))
-        return kinetic, strain
-
-    def kinetic_energy(self, v: NDArray) -> float:
-        """Total kinetic energy 1/2 sum rho_i V_i |v_i|^2 (J), reduced over ranks."""
-        own = self.comm.owned
-        mass = (self.density * self.cloud.volume)[own]
-        local = float(0.5 * np.sum(mass * np.sum(v[own] * v[own], axis=1)))
-        return self.comm.sum(local)
-
-    @property
-    def owned_bonds(self) -> int:
-        """Directed bonds of the owned points' families: the first ``owned_bonds`` of the
-        list (all of them in a serial run; a rank of a decomposed run also holds the
-        families of its first ghost layer after them)."""
-        n_own = self.comm.n_owned
-        return self.bonds.n_bonds if n_own is None else int(self.bonds.offsets[n_own])
-
-    def bond_counts(self, s: State) -> tuple[float, float]:
-        """(directed bonds broken during the run, directed bonds) of the owned families,
-        over ranks: the pre-cracked bonds count as neither."""
-        end = self.owned_bonds
-        failed = int(np.count_nonzero(self.bonds.bond_intact[:end])) - int(
-            np.count_nonzero(s.intact[:end])
-        )
-        return self.comm.sum(float(failed)), self.comm.sum(float(end))
-
-    def point_damage(
-        self, intact: NDArray[np.uint8], interface_intact: NDArray[np.uint8] | None = None
-    ) -> NDArray:
-        """Local damage phi (Lu & Wang (2016), eq. 7), shape (n,). With several bodies the
-        bonds of their interfaces count too (``interface_intact``: the State field of that
-        name; ``None``: as built)."""
-        fm = self.force_model
-        if isinstance(fm, CompositeForceModel) and fm.interfaces:
-            if interface_intact is None:
-                interface_intact = np.concatenate([f.bonds.bond_intact for f in fm.interfaces])
-            return fm.point_damage(intact, interface_intact)
-        out = np.empty(self.n_points)
-        b = self.bonds
-        if "bond_volume" in b.held or b.x is None or b.point_volume is None:
-            bond_based.damage(b.offsets, b.bond_volume, intact, out)
-        else:  # derived in the kernel: the bond list keeps no partial volumes for it
-            bond_based.damage_derived(
-                b.x, b.offsets, b.bond_j, b.point_volume, b.horizon, b.spacing,
-                bond_based.PARTIAL_VOLUME_CODES[b.partial_volume], intact, out,
-            )  # fmt: skip
-        return out
-
-    def largest_stretch(self, s: State) -> NDArray[np.float64]:
-        """Largest stretch r/|xi| - 1 of an intact bond of each point (0 where none is
-        stretched), shape (n,), at ``s.u``: what the ``max_stretch`` probe reports, for
-        every model family (the PMB force pass does not track it)."""
-        b = self.bonds
-        out = np.empty(self.n_points)
-        bond_based.largest_stretch(self.cloud.x, s.u, b.offsets, b.bond_j, s.intact, 0.0, out)
-        return out
-
-    def section_stress(self, u: NDArray, intact: NDArray[np.uint8], position: float) -> float:
-        """1-D stress (Pa, tension positive) across the section x = ``position``: the sum
-        of the forces of all intact bonds that cross it, divided by the area (Lu & Wang (2016)
-        section 3: PD stress from the force flux, comparable with the FDM stress)."""
-        if self.dim != 1:
-            raise ValueError("section_stress is defined for 1-D bars")
-        b = self.bonds
-        x = self.cloud.x[:, 0]
-        cross = (x[b.bond_i] < position) & (x[b.bond_j] > position)
-        k = np.flatnonzero(cross)
-        i, j = b.bond_i[k], b.bond_j[k]
-        e = (x[j] - x[i]) + (u[j, 0] - u[i, 0])
-        r = np.abs(e)
-        # force on the left point i from j (N): stiffness (1/L - 1/r) e mu V_i
-        f = self.stiffness[k] * (self.inv_length[k] - 1.0 / r) * e * intact[k]
-        return float(np.sum(f * self.cloud.volume[i]) / self.cloud.cross_section)
-
-    def point_stress(self, u: NDArray, intact: NDArray[np.uint8]) -> NDArray:
-        """Peridynamic (virial) stress of each point, shape (n, dim, dim) (Pa):
-        sigma_i = 1/2 sum_k f_k (xi_k + eta_k) (x) xi_k, with f_k the elastic bond force
-        density of bond k times V_j (Lehoucq & Silling 2008, the bond-based form used for
-        stress maps; viscous forces are not included). For a uniform strain it equals the
-        continuum stress of the model in the bulk. Not used in the time loop (NumPy)."""
-        b = self.bonds
-        xi = b.bond_xi
-        e = xi + (u[b.bond_j] - u[b.bond_i])
-        r = np.linalg.norm(e, axis=1)
-        g = self.stiffness * intact * (self.inv_length - 1.0 / r)  # c V s / r
-        pair = 0.5 * g[:, None, None] * e[:, :, None] * xi[:, None, :]
-        out = np.zeros((self.n_points, self.dim, self.dim))
-        np.add.at(out, b.bond_i, pair)
-        return out
-
-    def pressure(self, u: NDArray, intact: NDArray[np.uint8]) -> NDArray:
-        """Mean compressive stress -tr(sigma) / dim of each point, shape (n,) (Pa)."""
-        return -np.trace(self.point_stress(u, intact), axis1=1, axis2=2) / self.dim
-
-    def stiffness_bound(self) -> NDArray[np.float64]:
-        """Per-point stiffness bound K_i of the force model (N/m^4), shape (n,)."""
-        return self.force_model.stiffness_bound()
-
-    def _elastic_bond_stiffness(self) -> NDArray[np.float64]:
-        """Bond stiffness of a bond-based model, or the PMB-equivalent micromodulus times
-        the partial volume for other families (viscous rate constant, contact)."""
-        k = getattr(self.force_model, "stiffness", None)
-        if k is not None:
-            return np.asarray(k)
-        c = self.cloud
-        c0 = self.material.micromodulus_constant(
-            c.dim, self.bonds.horizon, c.cross_section, c.plane
-        )
-        return c0 * self.bonds.bond_volume
-
-    def stable_time_step(self) -> float:
-        """Largest stable explicit step, min over points of Silling & Askari's bound (s).
-
-        With linear viscosity the bound shrinks as for a damped oscillator integrated
-        explicitly: dt = dt_el (sqrt(1 + xi^2) - xi), where xi = gamma / dt_el is the
-        damping ratio of the fastest mode (omega = 2 / dt_el) and gamma (s) the largest
-        ratio of viscous to elastic bond coefficient (the 1-D rate constant of PD wave
-        dispersion (n.d.), eq. 39). The quadratic term depends on the amplitude and is not included.
-        """
-        dt = np.inf
-        for group in range(len(self.force_model.dofs())):
-            bound = self.force_model.dof_stiffness_bound(group)
-            with np.errstate(divide="ignore"):
-                per_point = np.where(bound > 0, np.sqrt(2.0 * self.inertia(group) / bound), np.inf)
-            dt = min(dt, self.comm.min(float(per_point.min())))
-        if self._viscous is not None and self._viscous[0] > 0:
-            k = self._elastic_bond_stiffness()
-            ok = k > 0
-            ratio = self.bonds.bond_volume[ok] / k[ok]
-            gamma = float(self._viscous[0] * ratio.max())
-            xi = gamma / dt
-            dt *= np.sqrt(1.0 + xi * xi) - xi
-        return dt

@@ -1,6 +1,6 @@
 """Micropolar bond-based force model (2-D): displacements and rotations per point.
 
-Kinematics, springs and calibration: :mod:`peridynamics.materials.micropolar`;
+Kinematics, springs and calibration: :mod:`peridynamics.families.micropolar.material`;
 kernels: :mod:`peridynamics.kernels.micropolar`. The model is linear in (u, theta)
 (small deformation, as in Zhou, Zhu & Li (n.d.)), so its tangent does not depend on
 the displacement and one Newton iteration solves an elastic load step exactly.
@@ -23,12 +23,12 @@ Tangent (dof order per point [u_x, u_y, theta]): bond k = (i, j) contributes
     B_p = [0, 0, -1, 0, 0, 1],
 
 once per pair (Zhou, Zhu & Li (n.d.), eq. 18), assembled by
-:func:`peridynamics.models.assembly.block_csr`.
+:func:`peridynamics.families.assembly.block_csr`.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 import scipy.sparse as sp
@@ -36,14 +36,27 @@ from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.bonds.surface import bond_factors_from_point_ratios
+from peridynamics.families.assembly import block_csr, family_sum
+from peridynamics.families.base import Dof, ForceModel
+from peridynamics.families.micropolar.springs import SpringConstants
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import micropolar as kern
-from peridynamics.models.assembly import block_csr, family_sum
-from peridynamics.models.base import Dof, ForceModel
+from peridynamics.communicator import active_comm
 
 if TYPE_CHECKING:
-    from peridynamics.materials.micropolar import MicropolarMaterial
     from peridynamics.state import State
+
+
+class MicropolarConstants(Protocol):
+    """What the force model reads of its material
+    (:class:`~peridynamics.families.micropolar.material.MicropolarMaterial`)."""
+
+    def springs(
+        self, dim: int, horizon: float, thickness: float, plane: str | None
+    ) -> SpringConstants: ...
+
+    def c11(self, plane: str | None) -> float: ...
+
 
 #: the rotation degrees of freedom: theta (rad), its rate omega (rad/s), the moment
 #: density (N m/m^3) and an external body moment density (N m/m^3)
@@ -79,7 +92,7 @@ class MicropolarForceModel(ForceModel):
         self,
         cloud: PointCloud,
         bonds: Bonds,
-        material: MicropolarMaterial,
+        material: MicropolarConstants,
         surface_correction: bool = False,
     ) -> None:
         self.cloud = cloud
@@ -235,4 +248,4 @@ class MicropolarForceModel(ForceModel):
             gamma = eps * perp[:, a] * nvec[:, a]
             wb = bonds.bond_volume * bonds.bond_length * (k.axial * stretch**2 + k.shear * gamma**2)
             ratios[a] = w_inf / (0.25 * np.bincount(bonds.bond_i, wb, minlength=n))
-        return bond_factors_from_point_ratios(bonds, ratios)
+        return bond_factors_from_point_ratios(bonds, ratios, active_comm())

@@ -6,26 +6,30 @@ The force pass is pure: it uses the trial history kappa' = max(kappa, s) of the
 displacement it is given, so the force follows the softening envelope within a
 dynamic-relaxation iteration, and the damage law
 (:class:`peridynamics.damage.bond_softening.BondSofteningLaw`) commits kappa' when the
-solver accepts the state. Kernels: :mod:`peridynamics.kernels.bond_softening`.
+solver accepts the state. Kernels: :mod:`peridynamics.kernels.bond_softening`; the
+envelope: :mod:`peridynamics.families.pmb_softening.envelope`. The family is chosen by the
+damage section (``damage.bond_law``), so the evaluator builds it with
+:func:`softening_force_model` from the law's parameters and the material.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds
+from peridynamics.families.base import DamageLaw, FieldSpec, FusedStep
+from peridynamics.families.pmb.force import PMBConstants, PMBForceModel
+from peridynamics.families.pmb.material import BondBasedMaterial
+from peridynamics.families.pmb_softening.envelope import SofteningEnvelope, softening_envelope
+from peridynamics.families.tangent import finite_difference_tangent
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import bond_softening as ks
-from peridynamics.models.base import FieldSpec
-from peridynamics.models.pmb import PMBForceModel
 
 if TYPE_CHECKING:
-    from peridynamics.damage.bond_softening import SofteningEnvelope
-    from peridynamics.materials.bond_based import BondBasedMaterial
     from peridynamics.state import State
 
 #: the per-bond history field: largest tensile stretch reached (dimensionless)
@@ -61,12 +65,14 @@ class PMBSofteningForceModel(PMBForceModel):
     name = "pmb"
     #: the critical-stretch fast path does not apply: the softening law has its own
     fused_breaking = False
+    #: the per-bond history field the law commits (capability the law asks for)
+    kappa_field: ClassVar[str] = KAPPA
 
     def __init__(
         self,
         cloud: PointCloud,
         bonds: Bonds,
-        material: BondBasedMaterial,
+        material: PMBConstants,
         surface_correction: bool,
         envelope: SofteningEnvelope,
         no_fail: NDArray[np.intp] | None = None,
@@ -112,6 +118,13 @@ class PMBSofteningForceModel(PMBForceModel):
         turn. Returns the number of directed bonds broken (not added to
         ``state.bonds_broken``: the evaluator does that)."""
         return self._run(state, commit=True)
+
+    def fused_step(self, state: State, law: DamageLaw, sed: Any = None) -> FusedStep | None:
+        """With the law bound to this model (``law.fused_model is self``): its trial,
+        commit and the force in one pass (:meth:`force_and_commit`); None otherwise."""
+        if law.fused_model is not self:
+            return None
+        return FusedStep(self.force_and_commit(state))
 
     def force_and_break(
         self, state: State, point_s0: NDArray[np.float64], family_s0_min: NDArray[np.float64]
@@ -159,7 +172,29 @@ class PMBSofteningForceModel(PMBForceModel):
 
     def tangent(self, state: State) -> sp.csr_matrix:
         """Finite-difference tangent K = -d(V f)/du (N/m) of the pure force at the
-        committed history (:mod:`peridynamics.models.tangent`)."""
-        from peridynamics.models.tangent import finite_difference_tangent
-
+        committed history (:mod:`peridynamics.families.tangent`)."""
         return finite_difference_tangent(self, state)
+
+
+def softening_force_model(
+    criterion: Any,
+    material: object,
+    cloud: PointCloud,
+    bonds: Bonds,
+    surface_correction: bool = False,
+) -> PMBSofteningForceModel:
+    """The PMB force model with the bond law ``criterion``
+    (:class:`~peridynamics.damage.bond_softening.SofteningBonds`) for ``material``: what
+    the evaluator builds instead of the material's own force model when the damage
+    section asks for a softening bond law."""
+    if not isinstance(material, BondBasedMaterial):
+        raise ValueError(
+            "damage.bond_law: softening bond laws are for bond-based material.model "
+            f"pmb / bond_based (got {type(material).__name__})"
+        )
+    env = softening_envelope(
+        criterion, material, cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
+    )
+    return PMBSofteningForceModel(
+        cloud, bonds, material, surface_correction, env, criterion.no_fail
+    )

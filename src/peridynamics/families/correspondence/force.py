@@ -33,18 +33,17 @@ Conventions
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds
+from peridynamics.families.base import FieldSpec, ForceModel
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import correspondence as kernels
-from peridynamics.models.base import FieldSpec, ForceModel
 
 if TYPE_CHECKING:
-    from peridynamics.materials.correspondence import CorrespondenceMaterial
     from peridynamics.state import State
 
 #: a family is degenerate when det K falls to this fraction of its reference value
@@ -58,6 +57,22 @@ _MODES = {
 }
 
 
+class CorrespondenceConstants(Protocol):
+    """What the force model reads of its material
+    (:class:`~peridynamics.families.correspondence.material.CorrespondenceMaterial`)."""
+
+    stabilization: str
+    stabilization_g: float
+
+    def constitutive_law(self, dim: int, plane: str | None) -> Any: ...
+
+    def micromodulus(
+        self, dim: int, horizon: float, thickness: float, plane: str | None
+    ) -> float: ...
+
+    def horizon_volume(self, dim: int, horizon: float, thickness: float) -> float: ...
+
+
 class CorrespondenceForceModel(ForceModel):
     """Correspondence force model over a directed CSR bond list.
 
@@ -67,7 +82,7 @@ class CorrespondenceForceModel(ForceModel):
         2-D (plane stress or plane strain) or 3-D cloud.
     bonds : Bonds
         Bond list of ``cloud``.
-    material : CorrespondenceMaterial
+    material : CorrespondenceMaterial (:class:`CorrespondenceConstants`)
 
     Attributes
     ----------
@@ -85,7 +100,7 @@ class CorrespondenceForceModel(ForceModel):
     name: ClassVar[str] = "correspondence"
     reach: ClassVar[int] = 2
 
-    def __init__(self, cloud: PointCloud, bonds: Bonds, material: CorrespondenceMaterial) -> None:
+    def __init__(self, cloud: PointCloud, bonds: Bonds, material: CorrespondenceConstants) -> None:
         if cloud.dim not in (2, 3):
             raise ValueError("material.model correspondence is a 2-D / 3-D model")
         self.cloud = cloud
@@ -260,6 +275,16 @@ class CorrespondenceForceModel(ForceModel):
             a, b, c = sym[:, 0, 0], sym[:, 1, 1], sym[:, 0, 1]
             return np.asarray(0.5 * (a + b) + np.sqrt(0.25 * (a - b) ** 2 + c * c))
         return np.asarray(np.linalg.eigvalsh(sym)[:, -1])
+
+    def degenerate_families(
+        self, intact: NDArray[np.uint8], det: NDArray[np.float64]
+    ) -> NDArray[np.bool_]:
+        """Points whose family is degenerate with the bonds ``intact`` (n_bonds,) uint8:
+        ``det K_i <= DEGENERATE_RATIO det K_i(reference)`` (or not a number) where the
+        reference family had extent, shape (n_owned,); ``det`` (n_owned,) receives
+        det K_i. What the failure laws ask (:mod:`peridynamics.damage.principal_stress`)."""
+        kernels.shape_determinant(self.bond_xi, self.bonds.offsets, self.weight, intact, det)
+        return np.asarray(~(det > DEGENERATE_RATIO * self.det_reference) & (self.det_reference > 0))
 
     # -- stiffness bound ------------------------------------------------------------------
     def stiffness_bound(self) -> NDArray[np.float64]:

@@ -63,14 +63,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Literal
+from typing import Literal
 
-from peridynamics.materials.bond_based import BondBasedMaterial
-
-if TYPE_CHECKING:
-    from peridynamics.bonds.bonds import Bonds
-    from peridynamics.geometry.cloud import PointCloud
-    from peridynamics.models.lps import LPSForceModel
+from peridynamics.bonds.bonds import Bonds
+from peridynamics.families import moduli
+from peridynamics.families.lps.force import LPSForceModel
+from peridynamics.geometry.cloud import PointCloud
 
 Influence = Literal["constant", "inverse"]
 INFLUENCES: tuple[str, ...] = ("constant", "inverse")
@@ -88,21 +86,6 @@ _FRACTURE_INTEGRALS: dict[tuple[int, str], tuple[float, float]] = {
     (2, "constant"): (32.0 / (5.0 * math.pi), 0.3525236868827),
     (2, "inverse"): (6.0 / math.pi, 0.3225997464260),
 }
-
-
-def check_isotropic_constants(E: float, nu: float, rho: float, model: str) -> None:
-    """Raise ValueError naming the deck key unless E > 0 (Pa), -1 < nu < 0.5 (bulk and
-    shear moduli > 0) and rho > 0 (kg/m^3) are finite numbers; ``model`` names the
-    family in the message."""
-    if not (isinstance(E, int | float) and math.isfinite(E) and E > 0):
-        raise ValueError(f"material.youngs_modulus must be a finite value > 0 Pa, got {E}")
-    if not (isinstance(nu, int | float) and math.isfinite(nu) and -1.0 < nu < 0.5):
-        raise ValueError(
-            f"material.poisson_ratio must lie in (-1, 0.5) for the {model} model "
-            f"(bulk and shear moduli > 0), got {nu}"
-        )
-    if not (isinstance(rho, int | float) and math.isfinite(rho) and rho > 0):
-        raise ValueError(f"material.density must be a finite value > 0 kg/m^3, got {rho}")
 
 
 @dataclass(frozen=True)
@@ -151,7 +134,9 @@ class LPSMaterial:
     influence: Influence = "constant"
 
     def __post_init__(self) -> None:
-        check_isotropic_constants(self.youngs_modulus, self.poisson_ratio, self.density, "LPS")
+        moduli.check_isotropic_constants(
+            self.youngs_modulus, self.poisson_ratio, self.density, "LPS"
+        )
         if self.influence not in INFLUENCES:
             raise ValueError(
                 f"material.influence must be one of {INFLUENCES}, got {self.influence!r}"
@@ -161,32 +146,24 @@ class LPSMaterial:
     @property
     def bulk_modulus(self) -> float:
         """3-D bulk modulus K = E / (3 (1 - 2 nu)) (Pa)."""
-        return self.youngs_modulus / (3.0 * (1.0 - 2.0 * self.poisson_ratio))
+        return moduli.bulk_modulus(self.youngs_modulus, self.poisson_ratio)
 
     @property
     def shear_modulus(self) -> float:
         """Shear modulus mu = E / (2 (1 + nu)) (Pa)."""
-        return self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
+        return moduli.shear_modulus(self.youngs_modulus, self.poisson_ratio)
 
     def dimensional_bulk_modulus(self, dim: int, plane: str | None) -> float:
         """k_d (Pa): K in 3-D, E / (2 (1 + nu)(1 - 2 nu)) in plane strain,
         E / (2 (1 - nu)) in plane stress."""
-        E, nu = self.youngs_modulus, self.poisson_ratio
         _check_dim(dim, plane)
-        if dim == 3:
-            return self.bulk_modulus
-        if plane == "strain":
-            return E / (2.0 * (1.0 + nu) * (1.0 - 2.0 * nu))
-        return E / (2.0 * (1.0 - nu))
+        return moduli.dimensional_bulk_modulus(self.youngs_modulus, self.poisson_ratio, dim, plane)
 
     def in_plane_moduli(self, dim: int, plane: str | None) -> tuple[float, float]:
         """(E', nu') of the in-plane uniaxial-stress response (Pa, -): (E, nu) in 3-D and
         plane stress, (E / (1 - nu^2), nu / (1 - nu)) in plane strain."""
         _check_dim(dim, plane)
-        E, nu = self.youngs_modulus, self.poisson_ratio
-        if dim == 2 and plane == "strain":
-            return E / (1.0 - nu * nu), nu / (1.0 - nu)
-        return E, nu
+        return moduli.in_plane_moduli(self.youngs_modulus, self.poisson_ratio, dim, plane)
 
     def coefficients(self, dim: int, plane: str | None) -> LPSCoefficients:
         """Force-state constants (module docstring): tf, k_theta = A d^2 / tf^2 with
@@ -268,21 +245,18 @@ class LPSMaterial:
     def micromodulus_constant(
         self, dim: int, horizon: float, cross_section: float, plane: str | None
     ) -> float:
-        """Constant-profile PMB micromodulus c of the same E (N/m^6), the formulas of
-        :class:`~peridynamics.materials.bond_based.BondBasedMaterial` (contact stiffness,
+        """Constant-profile PMB micromodulus c of the same E (N/m^6),
+        :func:`peridynamics.families.moduli.pmb_micromodulus` (contact stiffness,
         viscous rate constants)."""
-        pmb = BondBasedMaterial(youngs_modulus=self.youngs_modulus, density=self.density)
-        return pmb.micromodulus_constant(dim, horizon, cross_section, plane)
+        return moduli.pmb_micromodulus(self.youngs_modulus, dim, horizon, cross_section, plane)
 
     # -- model --------------------------------------------------------------------------
     def force_model(
         self, cloud: PointCloud, bonds: Bonds, surface_correction: bool = False
     ) -> LPSForceModel:
-        """The :class:`~peridynamics.models.lps.LPSForceModel` of this material;
+        """The :class:`~peridynamics.families.lps.force.LPSForceModel` of this material;
         ``surface_correction=True`` calibrates the influence function of every point
-        (:func:`~peridynamics.models.lps.calibrate_influence`)."""
-        from peridynamics.models.lps import LPSForceModel
-
+        (:func:`~peridynamics.families.calibration.calibrate_influence`)."""
         return LPSForceModel(cloud, bonds, self, surface_correction=surface_correction)
 
 

@@ -4,7 +4,7 @@ law and the zero-energy-mode control.
 A correspondence material maps the nonlocal deformation gradient F of a point
 (Silling et al. 2007, section 15) through a classical constitutive law to the first
 Piola-Kirchhoff stress P; the force state is ``omega P K^-1 xi``
-(:mod:`peridynamics.models.correspondence`). The laws here are hyperelastic, so every
+(:mod:`peridynamics.families.correspondence.force`). The laws here are hyperelastic, so every
 variant of the model has a potential energy:
 
 * ``st_venant_kirchhoff`` (default): Green strain ``E = (F^T F - I) / 2``,
@@ -43,15 +43,15 @@ from __future__ import annotations
 import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, ClassVar, Literal
+from typing import ClassVar, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
-if TYPE_CHECKING:
-    from peridynamics.bonds.bonds import Bonds
-    from peridynamics.geometry.cloud import PointCloud
-    from peridynamics.models.correspondence import CorrespondenceForceModel
+from peridynamics.bonds.bonds import Bonds
+from peridynamics.families import moduli
+from peridynamics.families.correspondence.force import CorrespondenceForceModel
+from peridynamics.geometry.cloud import PointCloud
 
 Stabilization = Literal["none", "silling2017", "lbscmm"]
 STABILIZATIONS: tuple[str, ...] = ("none", "silling2017", "lbscmm")
@@ -167,9 +167,7 @@ class CorrespondenceMaterial:
     law: str = "st_venant_kirchhoff"
 
     def __post_init__(self) -> None:
-        from peridynamics.materials.lps import check_isotropic_constants
-
-        check_isotropic_constants(
+        moduli.check_isotropic_constants(
             self.youngs_modulus, self.poisson_ratio, self.density, "correspondence"
         )
         if self.stabilization not in STABILIZATIONS:
@@ -186,15 +184,12 @@ class CorrespondenceMaterial:
     @property
     def shear_modulus(self) -> float:
         """mu = E / (2 (1 + nu)) (Pa)."""
-        return self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
+        return moduli.shear_modulus(self.youngs_modulus, self.poisson_ratio)
 
     def lame(self, dim: int, plane: str | None) -> float:
         """lambda' (Pa) of the idealisation: plane stress E nu / (1 - nu^2), else
         E nu / ((1 + nu)(1 - 2 nu))."""
-        E, nu = self.youngs_modulus, self.poisson_ratio
-        if dim == 2 and plane != "strain":
-            return E * nu / (1.0 - nu * nu)
-        return E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
+        return moduli.lame(self.youngs_modulus, self.poisson_ratio, dim, plane)
 
     def bulk_modulus(self, dim: int, plane: str | None) -> float:
         """d-dimensional bulk modulus lambda' + 2 mu / d (Pa): K in 3-D, kappa in 2-D."""
@@ -260,6 +255,4 @@ class CorrespondenceMaterial:
         """The correspondence force model on ``cloud`` and ``bonds``. The deformation
         gradient is exact for every affine field at every point, surfaces included, so
         no surface correction is applied (``surface_correction`` is ignored)."""
-        from peridynamics.models.correspondence import CorrespondenceForceModel
-
         return CorrespondenceForceModel(cloud, bonds, self)

@@ -7,7 +7,7 @@ one pass, :meth:`PMBForceModel.force_and_break`) are the same compiled code.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 import scipy.sparse as sp
@@ -15,17 +15,32 @@ from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.bonds.surface import energy_correction_factors, moment_correction_factors
+from peridynamics.families.base import DamageLaw, ForceModel, FusedStep
+from peridynamics.families.calibration import calibrate_influence
+from peridynamics.families.pmb.tangent import pmb_tangent
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import bond_based
-from peridynamics.models.base import ForceModel
+from peridynamics.communicator import active_comm
 
 if TYPE_CHECKING:
-    from peridynamics.materials.bond_based import BondBasedMaterial
     from peridynamics.state import State
 
 #: uniaxial strain of the surface-correction calibration: small, so that the geometric
 #: nonlinearity of the stretch (relative O(strain)) does not bias the factors
 _CALIBRATION_STRAIN = 1e-6
+
+
+class PMBConstants(Protocol):
+    """What the force model reads of its material
+    (:class:`~peridynamics.families.pmb.material.BondBasedMaterial`)."""
+
+    def bond_stiffness(
+        self, cloud: PointCloud, bonds: Bonds, corrected: bool = True
+    ) -> NDArray[np.float64]: ...
+
+    def uniaxial_energy_density(
+        self, strain: float, dim: int, horizon: float, cross_section: float, plane: str | None
+    ) -> float: ...
 
 
 class PMBForceModel(ForceModel):
@@ -35,7 +50,7 @@ class PMBForceModel(ForceModel):
     ----------
     cloud : PointCloud
     bonds : Bonds
-    material : BondBasedMaterial
+    material : BondBasedMaterial (:class:`PMBConstants`)
     surface_correction : bool
         Energy-method surface correction (Madenci & Oterkus 2014, section 4.2).
 
@@ -51,6 +66,7 @@ class PMBForceModel(ForceModel):
     """
 
     name = "pmb"
+    sed_softening = True
     #: the explicit fast path (``force_and_break``) gives the same bits as trial,
     #: commit and :meth:`force` in turn
     fused_breaking: bool = True
@@ -59,7 +75,7 @@ class PMBForceModel(ForceModel):
         self,
         cloud: PointCloud,
         bonds: Bonds,
-        material: BondBasedMaterial,
+        material: PMBConstants,
         surface_correction: bool = False,
     ) -> None:
         self.cloud = cloud
@@ -71,8 +87,14 @@ class PMBForceModel(ForceModel):
             )
             # irregular clouds (jittered grids): the moment method calibrates every
             # uniform strain, not only stretches along the axes (nu stays right)
-            method = moment_correction_factors if cloud.irregular else energy_correction_factors
-            factors = method(cloud.x, bonds, raw, w_inf, _CALIBRATION_STRAIN)
+            if cloud.irregular:
+                factors = moment_correction_factors(
+                    cloud.x, bonds, raw, w_inf, _CALIBRATION_STRAIN, calibrate=calibrate_influence
+                )
+            else:
+                factors = energy_correction_factors(
+                    cloud.x, bonds, raw, w_inf, _CALIBRATION_STRAIN, active_comm()
+                )
             bonds = bonds.with_correction(factors)
         self.bonds = bonds
         self.stiffness = material.bond_stiffness(cloud, bonds)
@@ -183,6 +205,29 @@ class PMBForceModel(ForceModel):
             )
         )  # fmt: skip
 
+    # -- capabilities -------------------------------------------------------------------
+    def fused_step(self, state: State, law: DamageLaw, sed: Any = None) -> FusedStep | None:
+        """With a critical-stretch law (``law.stretch_thresholds()``): its trial, commit
+        and the force in one pass (:meth:`force_and_break`), in 2-D with the SED energy of
+        ``sed`` in the same pass (:meth:`force_sed_and_break`); None otherwise."""
+        if not self.fused_breaking:
+            return None
+        thresholds = law.stretch_thresholds()
+        if thresholds is None:
+            return None
+        point_s0, family_s0_min = thresholds
+        if sed is not None and self.dim == 2:  # forces and SED energy in one pass
+            broken = self.force_sed_and_break(
+                state, point_s0, family_s0_min, sed.k0l, sed.tensile, sed.energy
+            )
+            return FusedStep(broken, counted=True, energy_done=True)
+        return FusedStep(self.force_and_break(state, point_s0, family_s0_min))
+
+    @property
+    def broken_counts(self) -> NDArray[np.int64]:
+        """Bonds broken per owned point by the last fused pass (n_owned,)."""
+        return self._broken_scratch
+
     # -- energy, bounds, tangent --------------------------------------------------------
     def energy_density(self, state: State) -> NDArray[np.float64]:
         """W_i = 1/4 sum_k stiffness_k mu_k s_k^2 |xi_k| (J/m^3), shape (n,)."""
@@ -203,7 +248,5 @@ class PMBForceModel(ForceModel):
 
     def tangent(self, state: State) -> sp.csr_matrix:
         """Analytic tangent K = -d(V f)/du (N/m), shape (n dim, n dim)
-        (:func:`peridynamics.models.pmb_tangent.pmb_tangent`)."""
-        from peridynamics.models.pmb_tangent import pmb_tangent
-
+        (:func:`peridynamics.families.pmb.tangent.pmb_tangent`)."""
         return pmb_tangent(self, state)

@@ -27,25 +27,36 @@ partial volumes, surface-correction factors and bond status, as built here), and
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
 if TYPE_CHECKING:
-    from peridynamics.models.pmb import PMBForceModel
     from peridynamics.state import State
 
 
+class BondStiffnessModel(Protocol):
+    """What the tangent reads: the bonds (CSR, with ``bond_i``, ``bond_xi``), the cloud
+    (``volume``, ``n_points``, ``dim``), the bond stiffness g (n_bonds,) and 1/|xi|
+    (n_bonds,); a :class:`~peridynamics.families.pmb.force.PMBForceModel` or the bonds of
+    an interface between bodies."""
+
+    bonds: Any
+    cloud: Any
+    stiffness: NDArray[np.float64]
+    inv_length: NDArray[np.float64]
+
+
 def bond_jacobians(
-    force_model: PMBForceModel, u: NDArray[np.float64], intact: NDArray[np.uint8]
+    force_model: BondStiffnessModel, u: NDArray[np.float64], intact: NDArray[np.uint8]
 ) -> NDArray[np.float64]:
     """Per-bond derivative A_k = d f_k / d y_k (N/m^4), shape (n_bonds, dim, dim).
 
     Parameters
     ----------
-    force_model : PMBForceModel
+    force_model : BondStiffnessModel
         Supplies the bonds, the bond stiffness g (n_bonds,) and 1/|xi| (n_bonds,).
     u : (n, dim) displacement (m).
     intact : (n_bonds,) uint8 bond status.
@@ -67,7 +78,7 @@ def bond_jacobians(
     return out
 
 
-def pmb_tangent(force_model: PMBForceModel, state: State) -> sp.csr_matrix:
+def pmb_tangent(force_model: BondStiffnessModel, state: State) -> sp.csr_matrix:
     """Tangent stiffness K = -d(V f)/du of the PMB force (N/m) at ``state.u``.
 
     Assembled with NumPy from the per-bond Jacobians (no Python loop over bonds or
@@ -75,7 +86,7 @@ def pmb_tangent(force_model: PMBForceModel, state: State) -> sp.csr_matrix:
 
     Parameters
     ----------
-    force_model : PMBForceModel
+    force_model : BondStiffnessModel
     state : State
         Reads ``u`` (n, dim) (m) and ``intact`` (n_bonds,).
 
