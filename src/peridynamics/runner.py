@@ -353,8 +353,8 @@ def _set_precision(model: Model, precision: str) -> None:
 
 def build_static(s: Any, model: Model, kin: list, init: list) -> Solver:
     """The implicit static solver from ``solver: {type: static, ...}`` (every key of the
-    section is a keyword of :class:`~peridynamics.solvers.newton.StaticSolver`)."""
-    from peridynamics.solvers.newton import StaticSolver
+    section is a keyword of :class:`~peridynamics.solvers.static.StaticSolver`)."""
+    from peridynamics.solvers.static import StaticSolver
 
     if init:
         raise ValueError("initial velocities have no meaning in a static run")

@@ -24,7 +24,7 @@ from peridynamics.models.tangent import (
     finite_difference_tangent,
     grid_colouring,
 )
-from peridynamics.solvers.static import reference_state, solve_linear_static
+from peridynamics.solvers.linear_static import reference_state, solve_linear_static
 from peridynamics.state import State
 
 DX = 1e-3

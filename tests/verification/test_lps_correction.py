@@ -41,7 +41,7 @@ from peridynamics.models.lps import (
     quartic_monomials,
 )
 from peridynamics.models.tangent import finite_difference_tangent
-from peridynamics.solvers.static import reference_state, solve_linear_static
+from peridynamics.solvers.linear_static import reference_state, solve_linear_static
 
 DX = 1e-3
 E = 2.0e9
