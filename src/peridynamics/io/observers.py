@@ -588,7 +588,7 @@ class CrackPaths(Observer):
             r["crack_path_length_m"][name].append(float(p.length))
 
     def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
-        from peridynamics.analysis.crack_path import rayleigh_speed, tip_speed_from_paths
+        from peridynamics.analysis.crack_speed import rayleigh_speed, tip_speed_from_paths
         from peridynamics.materials.bond_based import fixed_poisson_ratio
 
         m, r = self.model, ctx.records
