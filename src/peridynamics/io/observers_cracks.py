@@ -12,7 +12,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from peridynamics.analysis.crack_length import CrackMeter, attribute_to_polylines
+from peridynamics.analysis.crack_attribution import attribute_to_polylines
+from peridynamics.analysis.crack_length import CrackMeter
 from peridynamics.io import deck as dk
 from peridynamics.io.observers import Observer, RunContext
 from peridynamics.solvers.base import StepResult

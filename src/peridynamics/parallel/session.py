@@ -148,7 +148,7 @@ class Session:
     def _orientation_table(self) -> NDArray[np.float64]:
         """The crack meter's orientation table from the whole body's interior families,
         as a serial run makes it (the same sample, the same bond order)."""
-        from peridynamics.analysis.crack_length import (
+        from peridynamics.analysis.crack_orientation import (
             family_first_moment,
             orientation_table,
             pick_interior,
