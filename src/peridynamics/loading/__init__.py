@@ -1,6 +1,7 @@
 """Loading: boundary/initial conditions on node sets and their time functions."""
 
-from peridynamics.loading.blast import BlastPulse, BlastRangeWarning, kingery_bulmash
+from peridynamics.loading.blast import BlastPulse
+from peridynamics.loading.blast_parameters import BlastRangeWarning, kingery_bulmash
 from peridynamics.loading.conditions import (
     BodyForce,
     Fixed,
