@@ -116,32 +116,7 @@ def solve_linear_static(
     u[fixed] = values
     k_free = k[free]
     rhs_free = rhs[free] - k_free[:, fixed] @ u[fixed]
-    if method == "direct":
-        k_ff = sp.csc_matrix(k_free[:, free])
-        try:
-            sol = spla.splu(k_ff).solve(rhs_free)
-        except RuntimeError as exc:
-            raise ValueError(
-                f"the static system is singular ({exc}); fix enough dofs to prevent "
-                "rigid-body motion"
-            ) from None
-    elif method == "cg":
-        k_ff = sp.csr_matrix(k_free[:, free])
-        diag = k_ff.diagonal()
-        if not np.all(diag > 0):
-            raise ValueError(
-                "the tangent has a non-positive diagonal entry: CG needs an SPD system"
-            )
-        sol, info = spla.cg(
-            k_ff, rhs_free, rtol=rtol, maxiter=20 * max(len(free), 1), M=sp.diags(1.0 / diag)
-        )
-        if info != 0:
-            raise ValueError(
-                f"CG did not converge (info {info}): the system may be singular (fix enough "
-                "dofs to prevent rigid-body motion); try method='direct'"
-            )
-    else:
-        raise ValueError(f"unknown method {method!r}; use 'direct' or 'cg'")
+    k_ff, sol = _solve_free_block(k_free[:, free], rhs_free, method, rtol)
     scale = max(float(np.abs(rhs_free).max(initial=0.0)), 1e-300)
     residual = float(np.abs(k_ff @ sol - rhs_free).max(initial=0.0))
     tol = 1e-6 if method == "direct" else max(1e-6, 10.0 * rtol * np.sqrt(len(free)))
@@ -153,3 +128,37 @@ def solve_linear_static(
         )
     u[free] = sol
     return u.reshape(n, d)
+
+
+def _solve_free_block(
+    k_fb: sp.spmatrix, rhs_free: NDArray[np.float64], method: str, rtol: float
+) -> tuple[sp.spmatrix, NDArray[np.float64]]:
+    """The free block ``k_fb`` (as solved) and the solution of ``k_fb x = rhs_free`` by
+    sparse LU (``"direct"``) or Jacobi-preconditioned CG (``"cg"``)."""
+    if method == "direct":
+        k_ff = sp.csc_matrix(k_fb)
+        try:
+            sol = spla.splu(k_ff).solve(rhs_free)
+        except RuntimeError as exc:
+            raise ValueError(
+                f"the static system is singular ({exc}); fix enough dofs to prevent "
+                "rigid-body motion"
+            ) from None
+    elif method == "cg":
+        k_ff = sp.csr_matrix(k_fb)
+        diag = k_ff.diagonal()
+        if not np.all(diag > 0):
+            raise ValueError(
+                "the tangent has a non-positive diagonal entry: CG needs an SPD system"
+            )
+        sol, info = spla.cg(
+            k_ff, rhs_free, rtol=rtol, maxiter=20 * max(len(rhs_free), 1), M=sp.diags(1.0 / diag)
+        )
+        if info != 0:
+            raise ValueError(
+                f"CG did not converge (info {info}): the system may be singular (fix enough "
+                "dofs to prevent rigid-body motion); try method='direct'"
+            )
+    else:
+        raise ValueError(f"unknown method {method!r}; use 'direct' or 'cg'")
+    return k_ff, sol

@@ -55,13 +55,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.damage.critical_stretch import CriticalStretchLaw
-from peridynamics.loading.conditions import Fixed, Kinematic, PrescribedVelocity
+from peridynamics.loading.conditions import Fixed, Kinematic
 from peridynamics.loading.time_functions import Constant
 from peridynamics.model import Model
 from peridynamics.solvers import linear as lin
 from peridynamics.solvers.base import StepResult
 from peridynamics.solvers.breaking import PairBreaker
 from peridynamics.solvers.explicit import SimulationUnstable
+from peridynamics.solvers.static_checks import check_arguments, check_damage
 from peridynamics.solvers.tangent_system import TangentSystem
 from peridynamics.state import State
 
@@ -119,21 +120,10 @@ class StaticSolver:
         reuse_factorization: bool = True,
         max_solves: int = 1_000_000,
     ) -> None:
-        _check_int("load_steps", load_steps, 1)
-        _check_int("max_iterations", max_iterations, 1)
-        _check_int("max_cutbacks", max_cutbacks, 0)
-        _check_int("max_solves", max_solves, 1)
-        if not 0.0 < tolerance < 1.0:
-            raise ValueError(f"solver.tolerance must be in (0, 1), got {tolerance}")
-        if not (load_time > 0 and math.isfinite(load_time)):
-            raise ValueError(f"solver.load_time must be a finite value > 0, got {load_time}")
-        lin.choose(linear_solver, 1)  # validates the name
-        for c in constraints:
-            if isinstance(c, PrescribedVelocity):
-                raise ValueError(
-                    "a prescribed velocity has no meaning in a static run; prescribe the "
-                    "displacement instead"
-                )
+        check_arguments(
+            constraints, load_steps, tolerance, max_iterations, max_cutbacks, load_time,
+            linear_solver, max_solves,
+        )  # fmt: skip
         self.model = model
         self.constraints = tuple(constraints)
         self.load_steps = int(load_steps)
@@ -151,32 +141,10 @@ class StaticSolver:
         fm = model.force_model
         self.groups = fm.dofs()
         self.width = sum(g.components for g in self.groups)
-        n, d = model.n_points, model.dim
-        probe = np.full((n, d), np.nan)
-        self._apply(probe, self.load_time)
-        fixed = np.zeros((n, self.width), dtype=bool)
-        fixed[:, :d] = ~np.isnan(probe)
-        if self.width > d:
-            for c in self.constraints:
-                if isinstance(c, Fixed) and c.rotation:
-                    fixed[c.nodes, d:] = True
-        self.fixed = fixed.reshape(-1)
+        self.fixed = self._fixed_dofs()
         self._volume = np.repeat(np.asarray(model.cloud.volume, dtype=np.float64), self.width)
         law = model.damage_law
-        if math.isfinite(getattr(law, "tensile_strength", math.inf)):
-            raise ValueError(
-                "[damage.tensile_strength] the principal-stress failure criterion breaks "
-                "bonds in explicit and adr runs only; the static solver breaks bonds by "
-                "critical stretch between solves: remove tensile_strength (with "
-                "damage.model: critical_stretch and fracture_energy or critical_stretch) "
-                "or use solver.type: adr"
-            )
-        if getattr(model, "softening", None) is not None:
-            raise ValueError(
-                "[damage.sed_softening] the static solver does not soften bonds (it breaks "
-                "them by critical stretch between solves): use solver.type: adr, or remove "
-                "sed_softening"
-            )
+        check_damage(model)
         self.breaker: PairBreaker | None = None
         if isinstance(law, CriticalStretchLaw) and law.active:
             self.breaker = PairBreaker(model.bonds, law.point_s0, breaking, bonds_per_event)
@@ -212,6 +180,21 @@ class StaticSolver:
         self.system = TangentSystem(
             model, self.width, self.fixed, linear_solver, self.tolerance, self.reuse, self.stats
         )
+
+    def _fixed_dofs(self) -> NDArray[np.bool_]:
+        """Mask (n width,) of the dofs a condition prescribes: the displacements any
+        condition writes (probed on a NaN array), the rotations of a ``Fixed`` with
+        ``rotation``."""
+        n, d = self.model.n_points, self.model.dim
+        probe = np.full((n, d), np.nan)
+        self._apply(probe, self.load_time)
+        fixed = np.zeros((n, self.width), dtype=bool)
+        fixed[:, :d] = ~np.isnan(probe)
+        if self.width > d:
+            for c in self.constraints:
+                if isinstance(c, Fixed) and c.rotation:
+                    fixed[c.nodes, d:] = True
+        return fixed.reshape(-1)
 
     # -- loads and dofs -------------------------------------------------------------------
     def _apply(self, u: NDArray[np.float64], t: float) -> None:
@@ -481,8 +464,3 @@ class StaticSolver:
             "message": message,
             "time_step_s": None,
         }
-
-
-def _check_int(name: str, value: Any, low: int) -> None:
-    if int(value) != value or value < low:
-        raise ValueError(f"solver.{name} must be an integer >= {low}, got {value}")
