@@ -22,7 +22,7 @@ from peridynamics import BondBasedMaterial, Model, build_bonds
 from peridynamics.analysis.anisotropy import damage_anisotropy
 from peridynamics.bonds.surface import energy_correction_factors, moment_correction_factors
 from peridynamics.geometry import Ball, box, cylinder, rectangle
-from peridynamics.geometry.generators import voronoi_volumes
+from peridynamics.geometry.jitter import voronoi_volumes
 from peridynamics.io.deck import DeckError, parse_deck
 from peridynamics.runner import SetupError, build_cloud
 
