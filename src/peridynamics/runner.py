@@ -42,6 +42,7 @@ from peridynamics.geometry import (
 from peridynamics.io import deck as dk
 from peridynamics.io.regions import to_region
 from peridynamics.loading import conditions as bc
+from peridynamics.loading import initial_fields
 from peridynamics.loading import time_functions as tf
 from peridynamics.materials import MATERIALS
 from peridynamics.materials.viscosity import BondViscosity
@@ -485,8 +486,8 @@ def _initial_field(
     path = f"boundary_conditions.{ibc}"
     if spec.file is not None:
         try:
-            values = bc.read_point_values(spec.file, cloud.dim)
-            return bc.point_rows(values, nodes, cloud.n_points, Path(spec.file).name)
+            values = initial_fields.read_point_values(spec.file, cloud.dim)
+            return initial_fields.point_rows(values, nodes, cloud.n_points, Path(spec.file).name)
         except ValueError as exc:
             raise SetupError(f"{path}.file", str(exc)) from None
     assert spec.value is not None
@@ -499,7 +500,7 @@ def _initial_field(
             out[:, k] = float(comp)
             continue
         try:
-            out[:, k] = bc.FieldExpression(comp)(x)
+            out[:, k] = initial_fields.FieldExpression(comp)(x)
         except ValueError as exc:
             raise SetupError(f"{path}.value.{k}", str(exc)) from None
         bad = ~np.isfinite(out[:, k])

@@ -11,7 +11,7 @@ import yaml
 
 from peridynamics.cli import main
 from peridynamics.io.deck import DeckError, load_deck, parse_deck
-from peridynamics.loading.conditions import FIELD_FUNCTIONS, FieldExpression
+from peridynamics.loading.initial_fields import FIELD_FUNCTIONS, FieldExpression
 from peridynamics.runner import SetupError, Simulation, build_cloud, build_conditions
 
 BASE = {
