@@ -194,7 +194,7 @@ def _stresses(u: F, r: F, M: float, lam: float) -> tuple[F, F]:
 
 def _output_times(
     output_times: Sequence[float] | None, n_steps: int, dt: float, end_time: float
-) -> F:
+) -> NDArray[np.floating]:
     """The output times (s): every step (``None``) or ``output_times`` checked and clipped
     to [0, end_time]."""
     if output_times is None:
