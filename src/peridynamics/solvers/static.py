@@ -313,6 +313,27 @@ class StaticSolver:
                 level = event
         return level
 
+    def _break_pending(self, s: State, breaker: PairBreaker) -> int:
+        """Break the bonds the last solve left at or over their critical stretch (the
+        breaker's scheme) and update the factorisation; returns the directed bonds
+        broken."""
+        if self._stretch is None:
+            self._stretch = self.model.force_model.bond_stretch(s)
+        pairs = breaker.select(self._stretch, s.intact)
+        self._stretch = None
+        both = breaker.both_directions(pairs)
+        if self._first_break is None and len(pairs):
+            b = self.model.bonds
+            x = self.model.cloud.x
+            mid = 0.5 * (x[b.bond_i[pairs]] + x[b.bond_j[pairs]])
+            self._first_break = (mid.mean(axis=0).tolist(), self.lam)
+        s.intact[both] = 0
+        broken = len(both)
+        s.bonds_broken += broken
+        self.system.remove_pairs(s, pairs)
+        self.stats["events"] += 1
+        return broken
+
     def step(self, s: State) -> StepResult:
         """One equilibrium solve: break bonds first when the last solve left violations
         (same load), else raise the load to the next level."""
@@ -320,21 +341,7 @@ class StaticSolver:
         events: list[str] = []
         broken = 0
         if self._pending and self.breaker is not None:
-            if self._stretch is None:
-                self._stretch = self.model.force_model.bond_stretch(s)
-            pairs = self.breaker.select(self._stretch, s.intact)
-            self._stretch = None
-            both = self.breaker.both_directions(pairs)
-            if self._first_break is None and len(pairs):
-                b = self.model.bonds
-                x = self.model.cloud.x
-                mid = 0.5 * (x[b.bond_i[pairs]] + x[b.bond_j[pairs]])
-                self._first_break = (mid.mean(axis=0).tolist(), self.lam)
-            s.intact[both] = 0
-            broken = len(both)
-            s.bonds_broken += broken
-            self.system.remove_pairs(s, pairs)
-            self.stats["events"] += 1
+            broken = self._break_pending(s, self.breaker)
             events.append("bonds_broken")
             target = self.lam
         else:
