@@ -57,7 +57,7 @@ STATIC_MODULUS_RATIO = {4.0: 0.855, 3.015: 0.842}
 def rayleigh_speeds(sim: Any) -> dict[str, float | None]:
     """Rayleigh speeds (m/s, exact root, plane stress, nu = 1/3) of the model as run, from
     two measures of its interior modulus, and of the nominal E."""
-    from peridynamics.analysis.crack_path import rayleigh_speed
+    from peridynamics.analysis.crack_speed import rayleigh_speed
     from peridynamics.io.observers.crack_paths import effective_modulus_ratio
 
     mat = sim.model.material

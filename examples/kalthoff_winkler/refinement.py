@@ -47,12 +47,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.analysis.crack import crack_tip, tip_speed
-from peridynamics.analysis.crack_path import (
-    CrackPath,
-    extract_crack_paths,
-    rayleigh_speed,
-    tip_speed_from_paths,
-)
+from peridynamics.analysis.crack_path import extract_crack_paths
+from peridynamics.analysis.crack_polyline import CrackPath
+from peridynamics.analysis.crack_speed import rayleigh_speed, tip_speed_from_paths
 from peridynamics.app.run import Simulation
 from peridynamics.build.cloud import build_cloud
 from peridynamics.deck import RectangleGeometry, load_deck

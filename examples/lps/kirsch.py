@@ -66,8 +66,8 @@ from numpy.typing import NDArray
 from peridynamics.app.run import Simulation
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.build.cloud import build_bonds_for, build_cloud
-from peridynamics.geometry.cloud import PointCloud
 from peridynamics.deck import Deck, load_deck
+from peridynamics.geometry.cloud import PointCloud
 
 HERE = Path(__file__).resolve().parent
 DECK = HERE / "plate_hole.yaml"

@@ -139,7 +139,7 @@ def _peaks(t: Any) -> Any:
 
 def dcb(out: Path, summary: dict[str, Any]) -> dict[str, Any]:
     """Compliance against corrected beam theory, events against LEFM."""
-    from peridynamics.analysis.beams import dcb_compliance, dcb_lefm_curve
+    from peridynamics.analysis.dcb import dcb_compliance, dcb_lefm_curve
 
     r = summary["results"]
     dx = r["spacing_m"]

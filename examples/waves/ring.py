@@ -34,7 +34,8 @@ import numpy as np  # noqa: E402
 from peridynamics.analysis.radial_cavity import solve_radial_cavity  # noqa: E402
 from peridynamics.app.run import Simulation  # noqa: E402
 from peridynamics.deck import load_deck  # noqa: E402
-from peridynamics.loading.blast import BlastPulse, BlastRangeWarning  # noqa: E402
+from peridynamics.loading.blast import BlastPulse  # noqa: E402
+from peridynamics.loading.blast_parameters import BlastRangeWarning  # noqa: E402
 
 DECK = HERE / "ring_blast.yaml"
 RADIUS = 0.225

@@ -16,6 +16,7 @@ import pytest
 from peridynamics import BondBasedMaterial, CriticalStretch, Model, build_bonds
 from peridynamics.families.pmb.tangent import pmb_tangent
 from peridynamics.geometry import box, rectangle
+from peridynamics.kernels.adr import adr_norms, adr_update
 from peridynamics.loading import (
     BodyForce,
     Fixed,
@@ -24,7 +25,7 @@ from peridynamics.loading import (
     Ramp,
 )
 from peridynamics.loading.conditions import Kinematic
-from peridynamics.solvers.adr import ADRSolver, adr_norms, adr_update
+from peridynamics.solvers.adr import ADRSolver
 from peridynamics.solvers.explicit import SimulationUnstable
 
 E, RHO = 70e9, 2700.0

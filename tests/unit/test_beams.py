@@ -6,15 +6,12 @@ import numpy as np
 import pytest
 
 from peridynamics.analysis.beams import (
-    dcb_chi,
-    dcb_compliance,
-    dcb_critical_load,
-    dcb_lefm_curve,
     euler_bernoulli_tip_deflection,
     timoshenko_beam_tip_deflection,
     timoshenko_goodier_cantilever,
     timoshenko_goodier_tip_deflection,
 )
+from peridynamics.analysis.dcb import dcb_chi, dcb_compliance, dcb_critical_load, dcb_lefm_curve
 
 # Cantilever of the micropolar example: P (N), L, H, t (m), E (Pa), nu.
 P, L, H, T, E, NU = 1000.0, 1.0, 0.3, 1.0, 200e9, 0.2

@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from peridynamics.loading.blast import (
+from peridynamics.loading.blast import BlastPulse
+from peridynamics.loading.blast_parameters import (
     BlastParameters,
-    BlastPulse,
     BlastRangeWarning,
     kingery_bulmash,
 )

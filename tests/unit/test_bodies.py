@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from peridynamics import BondBasedMaterial, Model, build_bonds
+from peridynamics import deck as dk
 from peridynamics.app.run import Simulation
 from peridynamics.bodies.build import select_bonds
 from peridynamics.bodies.composite import BodiesDamage, BodiesMaterial, BodyPart
@@ -16,7 +17,6 @@ from peridynamics.build.errors import SetupError
 from peridynamics.damage import CriticalStretch
 from peridynamics.families.registry import MATERIALS
 from peridynamics.geometry import rectangle
-from peridynamics import deck as dk
 from peridynamics.solvers.explicit import ExplicitSolver
 
 DX = 1e-3

@@ -13,7 +13,10 @@ from peridynamics import BondBasedMaterial, Model, PointCloud, build_bonds
 from peridynamics.bonds.search import brute_force_pairs
 from peridynamics.evaluation.short_range_contact import ShortRangeContact
 from peridynamics.geometry import bar, box, rectangle
-from peridynamics.kernels.contact import contact_energy_reference, contact_force_reference
+from peridynamics.kernels.short_range_contact import (
+    contact_energy_reference,
+    contact_force_reference,
+)
 
 DX = 1e-3
 CS = 1e20  # N/m^6

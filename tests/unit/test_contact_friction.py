@@ -13,9 +13,9 @@ from peridynamics import PointCloud, build_bonds
 from peridynamics.bonds.search import brute_force_pairs
 from peridynamics.evaluation.short_range_contact import ShortRangeContact
 from peridynamics.geometry import bar, box, rectangle
-from peridynamics.kernels import contact as kernels
-from peridynamics.kernels.contact import contact_force_reference
-from peridynamics.kernels.contact_friction import contact_friction_reference
+from peridynamics.kernels import short_range_contact as kernels
+from peridynamics.kernels.short_range_contact import contact_force_reference
+from peridynamics.kernels.short_range_friction import contact_friction_reference
 
 DX = 1e-3
 CS = 1e20  # N/m^6

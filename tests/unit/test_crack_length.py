@@ -10,19 +10,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from peridynamics.analysis.crack_length import (
-    ORIENTATION_AVERAGE,
-    CrackMeter,
-    attribute_to_polylines,
-    broken_bond_crack_length,
-    orientation_factor,
-)
+from peridynamics.analysis.crack_attribution import attribute_to_polylines
+from peridynamics.analysis.crack_length import CrackMeter, broken_bond_crack_length
+from peridynamics.analysis.crack_orientation import ORIENTATION_AVERAGE, orientation_factor
 from peridynamics.app.run import Simulation
 from peridynamics.bonds.bonds import Bonds, build_bonds
 from peridynamics.bonds.precrack import RectangleCrack, SegmentCrack, crossing_bonds
+from peridynamics.deck import parse_deck
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.geometry.generators import box, rectangle
-from peridynamics.deck import parse_deck
 from peridynamics.io.observers.crack_threshold import (
     CrackThresholdWarning,
     ridge_mask,

@@ -7,13 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from peridynamics.analysis.crack_path import (
-    extract_crack_path,
-    extract_crack_paths,
-    polyline_angles,
-    rayleigh_speed,
-    tip_speed_from_paths,
-)
+from peridynamics.analysis.crack_path import extract_crack_path, extract_crack_paths
+from peridynamics.analysis.crack_polyline import polyline_angles
+from peridynamics.analysis.crack_speed import rayleigh_speed, tip_speed_from_paths
 
 H = 1.0e-3  # grid spacing, m
 

@@ -24,10 +24,10 @@ import yaml
 from peridynamics.app import checks as cli_mod
 from peridynamics.app.run import RunInterrupted, Simulation
 from peridynamics.build.errors import SetupError
-from peridynamics.cli import main
-from peridynamics.io.checkpoint import CHECKPOINT_NAME, read_checkpoint, read_checkpoint_meta
 from peridynamics.build.estimates import estimate_size, estimate_steps
+from peridynamics.cli import main
 from peridynamics.deck import DeckError, load_deck, yaml_load
+from peridynamics.io.checkpoint import CHECKPOINT_NAME, read_checkpoint, read_checkpoint_meta
 from tests.helpers import EXAMPLES, ROOT
 
 BAR = EXAMPLES / "bar_wave_1d" / "deck.yaml"

@@ -20,6 +20,7 @@ from peridynamics.bonds.precrack import crossing_bonds
 from peridynamics.build.cloud import build_cloud
 from peridynamics.build.errors import SetupError
 from peridynamics.build.loads import build_conditions
+from peridynamics.deck import DeckError, parse_deck
 from peridynamics.geometry import (
     GeometryFitWarning,
     Notch,
@@ -31,7 +32,6 @@ from peridynamics.geometry import (
 )
 from peridynamics.geometry.generators import fit_cells
 from peridynamics.geometry.regions import Ball
-from peridynamics.deck import DeckError, parse_deck
 
 DX = 1.0e-3
 

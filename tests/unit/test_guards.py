@@ -14,8 +14,8 @@ from peridynamics.bonds import make_crack
 from peridynamics.build.cloud import build_cloud
 from peridynamics.build.errors import SetupError
 from peridynamics.build.loads import build_conditions
-from peridynamics.geometry import NearestPoint, rectangle
 from peridynamics.deck import DeckError, load_deck, parse_deck
+from peridynamics.geometry import NearestPoint, rectangle
 from peridynamics.loading import traction_as_body_force
 from tests.helpers import EXAMPLES, cli
 

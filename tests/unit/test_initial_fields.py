@@ -15,7 +15,7 @@ from peridynamics.build.errors import SetupError
 from peridynamics.build.loads import build_conditions
 from peridynamics.cli import main
 from peridynamics.deck import DeckError, load_deck, parse_deck
-from peridynamics.loading.conditions import FIELD_FUNCTIONS, FieldExpression
+from peridynamics.loading.initial_fields import FIELD_FUNCTIONS, FieldExpression
 
 BASE = {
     "name": "fields",

@@ -23,10 +23,10 @@ from peridynamics.analysis.anisotropy import damage_anisotropy
 from peridynamics.bonds.surface import energy_correction_factors, moment_correction_factors
 from peridynamics.build.cloud import build_cloud
 from peridynamics.build.errors import SetupError
+from peridynamics.deck import DeckError, parse_deck
 from peridynamics.families.calibration import calibrate_influence
 from peridynamics.geometry import Ball, box, cylinder, rectangle
-from peridynamics.geometry.generators import voronoi_volumes
-from peridynamics.deck import DeckError, parse_deck
+from peridynamics.geometry.jitter import voronoi_volumes
 
 DX = 1e-3
 
@@ -319,9 +319,9 @@ def test_plane_of_a_3d_cloud_and_bad_input() -> None:
 def test_traction_on_a_jittered_edge_applies_traction_times_area(jitter, layers, dim):
     """The layer's body force totals traction x face area although the jittered rows are
     not flat (extent + dx would be up to (1 + 2 jitter) dx)."""
+    from peridynamics import deck as dk
     from peridynamics.build.cloud import build_cloud
     from peridynamics.build.loads import build_conditions
-    from peridynamics import deck as dk
 
     size = [0.05, 0.02] if dim == 2 else [0.02, 0.01, 0.01]
     geom = {"type": "rectangle", "size": size, "thickness": 0.01} if dim == 2 else {

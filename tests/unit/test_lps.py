@@ -24,7 +24,7 @@ from peridynamics.families.tangent import (
 from peridynamics.geometry import PointCloud, box, rectangle
 from peridynamics.geometry.cloud import Plane
 from peridynamics.kernels import reference_lps as ref
-from peridynamics.solvers.static import reference_state, solve_linear_static
+from peridynamics.solvers.linear_static import reference_state, solve_linear_static
 from peridynamics.state import State
 
 DX = 1e-3

@@ -7,12 +7,12 @@ import copy
 import numpy as np
 import pytest
 
+from peridynamics import deck as dk
 from peridynamics.app.run import Simulation
 from peridynamics.bodies.rigid import RigidBody, RigidSystem, rotation_step
 from peridynamics.bodies.rigid_contact import contact_for_shape
 from peridynamics.bodies.shapes import Box
 from peridynamics.build.errors import SetupError
-from peridynamics import deck as dk
 from peridynamics.kernels.reference_rigid_contact import rigid_shape_force_reference
 
 G = 9.81

@@ -11,7 +11,12 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from peridynamics.bodies.contact import Pose, RigidPointsContact, RigidShapeContact, Twist
+from peridynamics.bodies.rigid_contact_forces import (
+    Pose,
+    RigidPointsContact,
+    RigidShapeContact,
+    Twist,
+)
 from peridynamics.bodies.shapes import Box, Cylinder, Plane, Shape, Sphere
 from peridynamics.kernels import reference_rigid_contact as ref
 

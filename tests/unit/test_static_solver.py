@@ -1,4 +1,4 @@
-"""The implicit static solver (:mod:`peridynamics.solvers.newton`): linear elasticity of
+"""The implicit static solver (:mod:`peridynamics.solvers.static`): linear elasticity of
 a micropolar cantilever, direct and iterative linear solvers, PMB and LPS (Newton on a
 geometrically nonlinear model; finite-difference tangent), bond breaking between solves
 (schemes A/B/C, event-driven load levels, Woodbury re-use of the factorisation), the
@@ -6,7 +6,7 @@ ends of a failed run, and the deck route.
 
 Oracles: force balance (reaction = applied load), Timoshenko & Goodier's tip deflection,
 linearity (load stepping changes nothing), the older linear solver
-:func:`peridynamics.solvers.static.solve_linear_static`, a direct factorisation after
+:func:`peridynamics.solvers.linear_static.solve_linear_static`, a direct factorisation after
 every event (no re-use), and bond stretches recomputed here from the displacements.
 All models are small (at most 1 260 points).
 """
@@ -35,10 +35,8 @@ from peridynamics.families.micropolar.material import MicropolarMaterial
 from peridynamics.families.pmb.material import BondBasedMaterial
 from peridynamics.geometry.generators import rectangle
 from peridynamics.loading.conditions import BodyForce, Fixed, PrescribedDisplacement
-from peridynamics.app.run import Simulation
-from peridynamics.build.errors import SetupError
-from peridynamics.solvers.newton import StaticSolver
-from peridynamics.solvers.static import solve_linear_static
+from peridynamics.solvers.linear_static import solve_linear_static
+from peridynamics.solvers.static import StaticSolver
 
 E_STEEL, NU, RHO_STEEL = 200e9, 0.2, 7850.0
 E_AL, RHO_AL = 70e9, 2700.0

@@ -1,5 +1,5 @@
-"""Short-range contact on the Warp device (peridynamics.backends.warp_contact) against the
-host ShortRangeContact, on Warp's CPU device: the same Verlet lists (pairs, row order,
+"""Short-range contact on the Warp device (peridynamics.backends.warp_short_range_contact)
+against the host ShortRangeContact, on Warp's CPU device: the same Verlet lists (pairs, row order,
 bond indices), the same rebuilds, forces to 1e-12 relative to max |force| (frictionless
 and with Coulomb friction), for two blocks pressed together and a plate with broken
 bonds whose points come into contact."""
@@ -12,8 +12,8 @@ import pytest
 pytest.importorskip("warp", reason="warp-lang not installed (pip install '.[gpu]')")
 
 from peridynamics import BondBasedMaterial, Model, PointCloud, build_bonds  # noqa: E402
-from peridynamics.backends.warp_contact import DeviceContact, supports  # noqa: E402
 from peridynamics.backends.warp_device import DeviceModel, DeviceState  # noqa: E402
+from peridynamics.backends.warp_short_range_contact import DeviceContact, supports  # noqa: E402
 from peridynamics.evaluation.short_range_contact import ShortRangeContact  # noqa: E402
 from peridynamics.geometry import box, rectangle  # noqa: E402
 

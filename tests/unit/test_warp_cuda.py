@@ -21,7 +21,8 @@ wp = pytest.importorskip("warp", reason="warp-lang not installed (pip install '.
 
 MODULES = [
     "_warp_dsl", "_warp_step_dsl", "_warp_damage_dsl", "_warp_lps_dsl",
-    "_warp_correspondence_dsl", "_warp_extras_dsl", "_warp_contact_dsl", "_warp_energy_dsl",
+    "_warp_correspondence_prepass_dsl", "_warp_correspondence_dsl", "_warp_extras_dsl",
+    "_warp_short_range_contact_dsl", "_warp_energy_dsl",
 ]  # fmt: skip
 ROOT = Path(__file__).resolve().parents[2]
 

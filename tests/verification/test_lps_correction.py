@@ -42,7 +42,7 @@ from peridynamics.families.lps.material import LPSMaterial
 from peridynamics.families.tangent import finite_difference_tangent
 from peridynamics.geometry import PointCloud, box, rectangle
 from peridynamics.kernels import reference_lps as ref
-from peridynamics.solvers.static import reference_state, solve_linear_static
+from peridynamics.solvers.linear_static import reference_state, solve_linear_static
 
 DX = 1e-3
 E = 2.0e9

@@ -31,7 +31,7 @@ import pytest
 from peridynamics.bonds import build_bonds
 from peridynamics.families.lps.material import LPSMaterial
 from peridynamics.geometry import box, rectangle
-from peridynamics.solvers.static import reference_state, solve_linear_static
+from peridynamics.solvers.linear_static import reference_state, solve_linear_static
 
 DX = 1e-3
 E = 2.0e9

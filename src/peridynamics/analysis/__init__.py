@@ -3,13 +3,9 @@
 from peridynamics.analysis.anisotropy import DamageAnisotropy, damage_anisotropy
 from peridynamics.analysis.attenuation import corrected_strength, fit_attenuation
 from peridynamics.analysis.crack import branching, count_branches, crack_tip, tip_speed
-from peridynamics.analysis.crack_path import (
-    CrackPath,
-    extract_crack_path,
-    extract_crack_paths,
-    rayleigh_speed,
-    tip_speed_from_paths,
-)
+from peridynamics.analysis.crack_path import extract_crack_path, extract_crack_paths
+from peridynamics.analysis.crack_polyline import CrackPath
+from peridynamics.analysis.crack_speed import rayleigh_speed, tip_speed_from_paths
 from peridynamics.analysis.dispersion import (
     Advice,
     Dispersion,

@@ -85,6 +85,23 @@ def _amplitude(
     return 2.0 * abs(cm) / c0 * half / np.sin(half), float(np.angle(cm)) / m
 
 
+def _in_plane(
+    dim: int, center: ArrayLike, axes: Sequence[int]
+) -> tuple[int, int, NDArray[np.float64]]:
+    """The two in-plane axes and the in-plane centre (2,), checked."""
+    if len(axes) != 2:
+        raise ValueError(f"axes must name two in-plane axes, got {tuple(axes)}")
+    a0, a1 = int(axes[0]), int(axes[1])
+    if a0 == a1 or not (0 <= a0 < dim and 0 <= a1 < dim):
+        raise ValueError(f"axes must be two distinct axes of the {dim}-D cloud")
+    c = np.asarray(center, dtype=np.float64).reshape(-1)
+    if c.shape == (dim,):
+        c = c[[a0, a1]]
+    elif c.shape != (2,):
+        raise ValueError(f"center must have {dim} or 2 coordinates, got {c.size}")
+    return a0, a1, c
+
+
 def damage_anisotropy(
     x: ArrayLike,
     damage: ArrayLike,
@@ -133,16 +150,7 @@ def damage_anisotropy(
         raise ValueError(f"x must have shape (n_points, 2 or 3), got {pts.shape}")
     if d.shape != (pts.shape[0],):
         raise ValueError(f"damage must have shape ({pts.shape[0]},), got {d.shape}")
-    if len(axes) != 2:
-        raise ValueError(f"axes must name two in-plane axes, got {tuple(axes)}")
-    a0, a1 = int(axes[0]), int(axes[1])
-    if a0 == a1 or not (0 <= a0 < pts.shape[1] and 0 <= a1 < pts.shape[1]):
-        raise ValueError(f"axes must be two distinct axes of the {pts.shape[1]}-D cloud")
-    c = np.asarray(center, dtype=np.float64).reshape(-1)
-    if c.shape == (pts.shape[1],):
-        c = c[[a0, a1]]
-    elif c.shape != (2,):
-        raise ValueError(f"center must have {pts.shape[1]} or 2 coordinates, got {c.size}")
+    a0, a1, c = _in_plane(pts.shape[1], center, axes)
     if not (np.isfinite(r_min) and np.isfinite(r_max) and 0 <= r_min < r_max):
         raise ValueError(f"need 0 <= r_min < r_max (m), got r_min={r_min}, r_max={r_max}")
     if int(n_bins) != n_bins or n_bins <= 16:

@@ -60,127 +60,34 @@ leaves damage 0.555 beside it instead of the 0.422 of a clean cut), which would 
 16 % to its length. Only the bonds the crack separates count: those whose end points
 see the crack on opposite sides, m_i . m_j <= 0 (a bond beside the crack has both ends
 on one side, m_i and m_j alike). On a clean cut every broken bond separates.
+
+The orientation factor and its table are in :mod:`peridynamics.analysis.crack_orientation`;
+the share of each tracked crack in :mod:`peridynamics.analysis.crack_attribution`.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from peridynamics.analysis.crack_orientation import (
+    ORIENTATION_AVERAGE,
+    STEP_2D,
+    STEP_3D,
+    interior_sample,
+    orientation_table,
+)
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.geometry.cloud import PointCloud
 
-__all__ = [
-    "ORIENTATION_AVERAGE",
-    "CrackMeter",
-    "attribute_to_polylines",
-    "broken_bond_crack_length",
-    "orientation_factor",
-]
-
-#: orientation average of |cos| between a bond and the crack normal: 2/pi in 2-D, 1/2 in 3-D
-ORIENTATION_AVERAGE: dict[int, float] = {2: 2.0 / math.pi, 3: 0.5}
+__all__ = ["CrackMeter", "broken_bond_crack_length"]
 
 Orientation = Literal["local", "average"]
-
-_STEP_2D = math.radians(0.5)  # table step of g(theta), 2-D
-_STEP_3D = math.radians(3.0)  # table step of g(polar, azimuth), 3-D
-_MAX_TABLE_BONDS = {2: 50_000, 3: 15_000}  # bond vectors sampled for the table
-
-
-def orientation_factor(
-    xi: ArrayLike, normals: ArrayLike, counts: ArrayLike | None = None
-) -> NDArray[np.float64]:
-    """Orientation factor g(n) = sum_k |xi_k . n| / sum_k |xi_k| of a set of bonds.
-
-    Parameters
-    ----------
-    xi : array_like, shape (k, dim)
-        Bond vectors (m), e.g. the family of one point.
-    normals : array_like, shape (q, dim)
-        Unit crack normals.
-    counts : array_like, shape (k,), optional
-        How many times each bond vector occurs (default once).
-
-    Returns
-    -------
-    ndarray, shape (q,)
-        g for each normal (dimensionless); averaged over orientations it is 2/pi in 2-D
-        and 1/2 in 3-D for any isotropic set of bonds.
-    """
-    v = np.asarray(xi, dtype=np.float64)
-    n = np.asarray(normals, dtype=np.float64)
-    c = np.ones(v.shape[0]) if counts is None else np.asarray(counts, dtype=np.float64)
-    total = float(c @ np.sqrt(np.einsum("ij,ij->i", v, v)))
-    out = np.zeros(n.shape[0])
-    chunk = max(1, 4_000_000 // max(v.shape[0], 1))
-    for a in range(0, n.shape[0], chunk):  # over blocks of directions (memory bound)
-        out[a : a + chunk] = c @ np.abs(v @ n[a : a + chunk].T)
-    return out / total if total > 0 else out
-
-
-def _table_normals(dim: int) -> tuple[NDArray[np.float64], tuple[int, ...]]:
-    """Unit normals of the table (q, dim) and the table's shape."""
-    if dim == 2:
-        k = round(math.pi / _STEP_2D)
-        t = np.arange(k) * _STEP_2D  # angle of the normal in [0, pi)
-        return np.column_stack([np.cos(t), np.sin(t)]), (k,)
-    kp = round(0.5 * math.pi / _STEP_3D) + 1  # polar angle 0 .. pi/2 (upper hemisphere)
-    ka = round(2.0 * math.pi / _STEP_3D)  # azimuth 0 .. 2 pi
-    p, a = np.meshgrid(np.arange(kp) * _STEP_3D, np.arange(ka) * _STEP_3D, indexing="ij")
-    n = np.column_stack(
-        [(np.sin(p) * np.cos(a)).ravel(), (np.sin(p) * np.sin(a)).ravel(), np.cos(p).ravel()]
-    )
-    return n, (kp, ka)
-
-
-def family_first_moment(bonds: Bonds, s: NDArray, dim: int) -> NDArray[np.float64]:
-    """The norm of sum_j xi_ij of every point's family, shape (len(s),) (m): 0 for a balanced
-    family, large for a point near a free surface."""
-    first = np.stack(
-        [
-            np.bincount(bonds.bond_i, weights=bonds.bond_xi[:, k], minlength=len(s))
-            for k in range(dim)
-        ],
-        axis=1,
-    )
-    return np.sqrt(np.einsum("ij,ij->i", first, first))
-
-
-def pick_interior(
-    s: NDArray, lopsided: NDArray, family_size: NDArray, dim: int
-) -> NDArray[np.intp]:
-    """Points with a full, balanced family (a sample of them): the largest families
-    (>= 97 % of the 90th percentile of S_i) whose first moment |sum xi| is under 5 % of
-    S_i (points near a free surface have a lopsided family)."""
-    full = (s >= 0.97 * np.percentile(s, 90.0)) & (lopsided <= 0.05 * s)
-    pts = np.flatnonzero(full)
-    if pts.size == 0:
-        pts = np.array([int(np.argmax(s))])
-    per = max(1.0, float(np.median(family_size[pts])))
-    take = max(1, int(_MAX_TABLE_BONDS[dim] / per))
-    if pts.size > take:
-        pts = pts[np.linspace(0, pts.size - 1, take).astype(np.intp)]
-    return pts
-
-
-def _interior_sample(bonds: Bonds, s: NDArray, dim: int) -> NDArray[np.intp]:
-    """:func:`pick_interior` of a bond list."""
-    return pick_interior(s, family_first_moment(bonds, s, dim), bonds.family_size, dim)
-
-
-def orientation_table(xi: NDArray[np.float64], spacing: float, dim: int) -> NDArray[np.float64]:
-    """The orientation factor table of interior families whose bond vectors are ``xi``
-    (k, dim), each distinct vector once with its count."""
-    key = np.rint(xi / (1e-6 * spacing)).astype(np.int64)
-    _, first, counts = np.unique(key, axis=0, return_index=True, return_counts=True)
-    normals, shape = _table_normals(dim)
-    return orientation_factor(xi[first], normals, counts).reshape(shape)
 
 
 @dataclass(frozen=True)
@@ -273,7 +180,7 @@ class CrackMeter:
         )
         if table is None:
             chosen = np.zeros(cloud.n_points, dtype=bool)
-            chosen[_interior_sample(bonds, s_own, dim)] = True
+            chosen[interior_sample(bonds, s_own, dim)] = True
             # identical bond vectors (a regular grid) once, with their count
             table = orientation_table(bonds.bond_xi[chosen[bonds.bond_i]], cloud.spacing, dim)
         return cls(
@@ -286,7 +193,7 @@ class CrackMeter:
             initially_intact=joined("bond_intact").astype(bool),
             base_weight=base,
             table=table,
-            step=_STEP_2D if dim == 2 else _STEP_3D,
+            step=STEP_2D if dim == 2 else STEP_3D,
         )
 
     @property
@@ -426,65 +333,6 @@ class CrackMeter:
     def midpoints(self, idx: NDArray[np.intp]) -> NDArray[np.float64]:
         """Reference midpoints of the directed bonds ``idx`` (k, dim), m."""
         return self.x[self.bond_i[idx]] + 0.5 * self.bond_xi[idx]
-
-
-def _segment_distance(p: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Distance (m) of points ``p`` (k, dim) from the polyline ``v`` (q, dim), shape (k,)."""
-    if v.shape[0] == 1:
-        return np.sqrt(np.einsum("ij,ij->i", p - v[0], p - v[0]))
-    best = np.full(p.shape[0], np.inf)
-    for a, b in zip(v[:-1], v[1:], strict=True):  # over the polyline's segments
-        d = b - a
-        dd = float(d @ d)
-        t = np.clip(((p - a) @ d) / dd, 0.0, 1.0) if dd > 0 else np.zeros(p.shape[0])
-        r = p - (a + t[:, None] * d)
-        np.minimum(best, np.einsum("ij,ij->i", r, r), out=best)
-    return np.sqrt(best)
-
-
-def attribute_to_polylines(
-    points: ArrayLike,
-    weights: ArrayLike,
-    cracks: Mapping[str, Sequence[ArrayLike]],
-    radius: float,
-) -> tuple[dict[str, float], float]:
-    """Share broken-bond crack among tracked cracks: each bond goes to the crack whose
-    polylines pass nearest its midpoint, if within ``radius``.
-
-    Parameters
-    ----------
-    points : array_like, shape (k, dim)
-        Bond midpoints (m), e.g. :meth:`CrackMeter.midpoints`.
-    weights : array_like, shape (k,)
-        Crack length (m) or area (m^2) of each bond (:meth:`CrackMeter.weights`).
-    cracks : mapping of str to sequence of array_like, each shape (q, dim)
-        Polylines of each crack (m): the main path and its branches.
-    radius : float
-        Largest distance from a crack (m); farther bonds are unattributed. Two horizons
-        cover the band of broken bonds around a crack (one horizon each side).
-
-    Returns
-    -------
-    per_crack : dict of str to float
-        Crack length (area) attributed to each crack.
-    unattributed : float
-        The rest: bonds farther than ``radius`` from every crack.
-    """
-    p = np.asarray(points, dtype=np.float64)
-    w = np.asarray(weights, dtype=np.float64)
-    names = list(cracks)
-    dist = np.full((len(names), p.shape[0]), np.inf)
-    for k, name in enumerate(names):  # over tracked cracks (a handful)
-        for line in cracks[name]:  # over their branches
-            v = np.asarray(line, dtype=np.float64).reshape(-1, p.shape[1] if p.size else 1)
-            if v.shape[0] and p.shape[0]:
-                np.minimum(dist[k], _segment_distance(p, v), out=dist[k])
-    if not names:
-        return {}, float(w.sum())
-    nearest = np.argmin(dist, axis=0) if p.shape[0] else np.zeros(0, dtype=np.intp)
-    near = dist[nearest, np.arange(p.shape[0])] <= radius
-    share = np.bincount(nearest[near], weights=w[near], minlength=len(names))
-    return {n: float(share[k]) for k, n in enumerate(names)}, float(w[~near].sum())
 
 
 def broken_bond_crack_length(

@@ -27,17 +27,18 @@ point then belongs to the seed nearest to it along the cluster (one multi-source
 Dijkstra), so two cracks that meet are split where they meet instead of one seed's path
 running on along the other's crack.
 
-Tip speeds come from the history of the path length by a local least-squares slope
-(:func:`tip_speed_from_paths`) and are flagged, never clipped, where they exceed the
-Rayleigh speed of the model as run (:func:`rayleigh_speed`, Viktorov (1967)).
+The polyline type :class:`~peridynamics.analysis.crack_polyline.CrackPath` and its
+geometry are in :mod:`peridynamics.analysis.crack_polyline`, the skeleton (steps 1-4) in
+:mod:`peridynamics.analysis.crack_skeleton`. Tip speeds come from the history of the
+path length by a local least-squares slope and are flagged, never clipped, where they
+exceed the Rayleigh speed of the model as run
+(:mod:`peridynamics.analysis.crack_speed`, Viktorov (1967)).
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
-from typing import Literal
 
 import numpy as np
 import scipy.sparse as sp
@@ -45,169 +46,18 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.sparse import csgraph
 from scipy.spatial import cKDTree
 
-__all__ = [
-    "CrackPath",
-    "extract_crack_path",
-    "extract_crack_paths",
-    "polyline_angles",
-    "rayleigh_speed",
-    "tip_speed_from_paths",
-]
+from peridynamics.analysis.crack_polyline import (
+    CrackPath,
+    arc_lengths,
+    chord_angles,
+    point_at_arc,
+    unit_direction,
+)
+from peridynamics.analysis.crack_skeleton import crack_branches
+
+__all__ = ["extract_crack_path", "extract_crack_paths"]
 
 _EPS = 1e-12
-
-
-@dataclass(frozen=True)
-class CrackPath:
-    """One crack extracted from a damage field.
-
-    Attributes
-    ----------
-    vertices : ndarray, shape (k, dim)
-        Polyline of the main branch (the one reaching farthest from the seed along the
-        cluster; the longest, up to the grid-scale difference of path and reach) from
-        the seed to the tip, m. ``k >= 1``;
-        an empty crack has the seed (or the seed region's centroid) as its only vertex.
-    length : float
-        Length of the polyline, m.
-    initial_angle_deg : float
-        Angle of the initial segment, degrees: the chord from the first vertex to the
-        point of the polyline at arc length ``initial_length`` (clipped to ``length``),
-        measured from ``reference_direction``. In 2-D it is signed, counter-clockwise
-        positive, in (-180, 180]; in 3-D it is the unsigned angle in [0, 180]. NaN for
-        an empty crack.
-    angles_deg : ndarray, shape (k,)
-        Direction of the path at each vertex from ``reference_direction``, degrees (same
-        convention as ``initial_angle_deg``): the chord between the points of the
-        polyline at arc lengths s - w/2 and s + w/2 (clipped to the ends), w the
-        ``angle_window`` of :func:`extract_crack_path`. The raw angles of the segments,
-        noisier by the grid-scale jitter of the vertices, are
-        ``polyline_angles(vertices, reference_direction)``.
-    arc_length : ndarray, shape (k,)
-        Cumulative length along the polyline at each vertex, m (0 at the seed).
-    tip : ndarray, shape (dim,)
-        Last vertex: the point of the cluster farthest from the seed along the cluster, m.
-    tip_index : int
-        Index of the tip in the input point arrays; -1 for an empty crack.
-    points : ndarray of int, shape (m,)
-        Indices (into the input arrays) of the damaged points of the crack's cluster.
-    geodesic : ndarray, shape (m,)
-        Distance from the seed along the cluster of each of ``points``, m.
-    initial_length : float
-        Arc length the initial angle was measured over, m.
-    reference_direction : ndarray, shape (dim,)
-        Unit vector the angles are measured from.
-    branches : tuple of ndarray, each shape (k_b, dim)
-        Polylines of every branch kept, each from the seed to its own tip, m; the first
-        is ``vertices``. Side branches are listed by decreasing length.
-    branch_lengths : ndarray, shape (n_branches,)
-        Length of each polyline of ``branches``, m.
-    """
-
-    vertices: NDArray[np.float64]
-    length: float
-    initial_angle_deg: float
-    angles_deg: NDArray[np.float64]
-    arc_length: NDArray[np.float64]
-    tip: NDArray[np.float64]
-    tip_index: int
-    points: NDArray[np.intp]
-    geodesic: NDArray[np.float64]
-    initial_length: float
-    reference_direction: NDArray[np.float64]
-    branches: tuple[NDArray[np.float64], ...] = field(default_factory=tuple)
-    branch_lengths: NDArray[np.float64] = field(default_factory=lambda: np.zeros(0))
-
-    @property
-    def n_branches(self) -> int:
-        """Number of branches kept (0 for an empty crack, 1 for an unbranched one)."""
-        return len(self.branches)
-
-    @property
-    def empty(self) -> bool:
-        """True when no damaged point is connected to the seed."""
-        return self.tip_index < 0
-
-    def point_at(self, s: float) -> NDArray[np.float64]:
-        """Point of the main polyline at arc length ``s`` (m, clipped to [0, length]).
-
-        Returns
-        -------
-        ndarray, shape (dim,)
-            Position, m.
-        """
-        return _point_at(self.vertices, self.arc_length, s)
-
-    def angle_over(self, s: float) -> float:
-        """Angle (degrees) of the chord from the first vertex to the point at arc length
-        ``s`` (m), from ``reference_direction``; NaN for an empty crack."""
-        if self.length <= 0.0:
-            return math.nan
-        return float(
-            _angles(
-                (self.point_at(s) - self.vertices[0])[None, :],
-                self.reference_direction,
-            )[0]
-        )
-
-
-def _unit(v: ArrayLike, dim: int) -> NDArray[np.float64]:
-    a = np.asarray(v, dtype=np.float64).reshape(-1)
-    if a.shape != (dim,):
-        raise ValueError(f"reference_direction needs {dim} components, got {a.shape[0]}")
-    n = float(np.linalg.norm(a))
-    if n == 0.0 or not math.isfinite(n):
-        raise ValueError("reference_direction must be non-zero and finite")
-    return a / n
-
-
-def _angles(seg: NDArray[np.float64], ref: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Angle (degrees) of each row of ``seg`` (j, dim) from the unit vector ``ref``."""
-    if seg.shape[0] == 0:
-        return np.zeros(0)
-    dot = seg @ ref
-    if seg.shape[1] == 2:
-        cross = ref[0] * seg[:, 1] - ref[1] * seg[:, 0]
-        return np.degrees(np.arctan2(cross, dot))
-    norm = np.linalg.norm(seg, axis=1)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        c = np.clip(dot / norm, -1.0, 1.0)
-    return np.degrees(np.arccos(c))
-
-
-def polyline_angles(
-    vertices: ArrayLike, reference_direction: ArrayLike | None = None
-) -> NDArray[np.float64]:
-    """Angle of each segment of a polyline from a reference direction.
-
-    Parameters
-    ----------
-    vertices : array_like, shape (k, dim)
-        Polyline vertices, m.
-    reference_direction : array_like, shape (dim,), optional
-        Direction the angles are measured from (normalised here); default +x.
-
-    Returns
-    -------
-    ndarray, shape (k - 1,)
-        Degrees; signed (counter-clockwise positive) in 2-D, unsigned in 3-D.
-    """
-    v = np.asarray(vertices, dtype=np.float64)
-    dim = v.shape[1]
-    ref = _unit(np.eye(dim)[0] if reference_direction is None else reference_direction, dim)
-    return _angles(np.diff(v, axis=0), ref)
-
-
-def _arc(v: NDArray[np.float64]) -> NDArray[np.float64]:
-    seg = np.linalg.norm(np.diff(v, axis=0), axis=1)
-    return np.concatenate([[0.0], np.cumsum(seg)])
-
-
-def _point_at(v: NDArray[np.float64], arc: NDArray[np.float64], s: float) -> NDArray[np.float64]:
-    if v.shape[0] == 1:
-        return v[0].copy()
-    s = min(max(float(s), 0.0), float(arc[-1]))
-    return np.array([np.interp(s, arc, v[:, j]) for j in range(v.shape[1])])
 
 
 def _empty(
@@ -417,11 +267,7 @@ def extract_crack_paths(
     n_s = len(seeds)
     if n_s == 0:
         return []
-    ref_in = np.eye(dim)[0] if reference_direction is None else reference_direction
-    ref_arr = np.asarray(ref_in, dtype=np.float64)
-    refs = [_unit(r, dim) for r in ref_arr] if ref_arr.ndim == 2 else [_unit(ref_arr, dim)] * n_s
-    if len(refs) != n_s:
-        raise ValueError(f"give one reference_direction or {n_s}, got {len(refs)}")
+    refs = _references(reference_direction, dim, n_s)
     init_len = 5.0 * spacing if initial_length is None else float(initial_length)
     link = link_factor * spacing
     width = bin_factor * spacing
@@ -429,6 +275,51 @@ def extract_crack_paths(
     r_s = 4.0 * spacing if seed_radius is None else float(seed_radius)
     window = 6.0 * spacing if angle_window is None else float(angle_window)
 
+    idx = np.flatnonzero(_cracked(d, threshold, exclude, within))
+    pts = xa[idx]
+    m = idx.size
+    found = [_sources(s, xa, idx, link, r_s) for s in seeds]
+    pairs, labels, g_all, pred_all, owner = _cluster_graph(pts, found, link, spacing)
+    out = []
+    for j, (src, _, start) in enumerate(found):  # over seeds
+        if src.size == 0:
+            out.append(_empty(start, refs[j], init_len, dim))
+            continue
+        members = np.flatnonzero((owner[:m] == m + j) & (labels[:m] == labels[m + j]))
+        if members.size == 0:  # every first point is nearer another seed
+            out.append(_empty(start, refs[j], init_len, dim))
+            continue
+        lines, lengths, tip = crack_branches(
+            pts, pairs, members, g_all, pred_all, start, spacing, width, min_branch
+        )
+        out.append(
+            _crack_path(
+                lines, lengths, idx[tip], idx[members], g_all[members], init_len, window, refs[j]
+            )
+        )
+    return out
+
+
+def _references(
+    reference_direction: ArrayLike | Sequence[ArrayLike] | None, dim: int, n_s: int
+) -> list[NDArray[np.float64]]:
+    """One unit reference direction per seed."""
+    ref_in = np.eye(dim)[0] if reference_direction is None else reference_direction
+    ref_arr = np.asarray(ref_in, dtype=np.float64)
+    if ref_arr.ndim == 2:
+        refs = [unit_direction(r, dim) for r in ref_arr]
+    else:
+        refs = [unit_direction(ref_arr, dim)] * n_s
+    if len(refs) != n_s:
+        raise ValueError(f"give one reference_direction or {n_s}, got {len(refs)}")
+    return refs
+
+
+def _cracked(
+    d: NDArray[np.float64], threshold: float, exclude: ArrayLike | None, within: ArrayLike | None
+) -> NDArray[np.bool_]:
+    """Mask of the points that count as cracked."""
+    n = d.shape[0]
     cracked = d >= threshold
     for name, extra, keep_in in (("exclude", exclude, False), ("within", within, True)):
         if extra is None:
@@ -437,12 +328,18 @@ def extract_crack_paths(
         if e.shape != (n,):
             raise ValueError(f"{name} must have shape ({n},), got {e.shape}")
         cracked &= e if keep_in else ~e
-    idx = np.flatnonzero(cracked)
-    pts = xa[idx]
-    m = idx.size
-    found = [_sources(s, xa, idx, link, r_s) for s in seeds]
+    return cracked
 
-    # --- cluster graph: cracked points + one virtual node per seed (m, m + 1, ...)
+
+def _cluster_graph(
+    pts: NDArray[np.float64], found: list, link: float, spacing: float
+) -> tuple[NDArray[np.intp], NDArray[np.int32], NDArray[np.float64], NDArray[np.int32], NDArray]:
+    """The cluster graph of the cracked points ``pts`` and one virtual node per seed
+    (m, m + 1, ...): neighbour pairs, connected-component labels, and the geodesic
+    distance, predecessor and nearest seed node of every node (one multi-source
+    Dijkstra)."""
+    m = pts.shape[0]
+    n_s = len(found)
     pairs = cKDTree(pts).query_pairs(link * (1 + 1e-9), output_type="ndarray")
     w = np.linalg.norm(pts[pairs[:, 0]] - pts[pairs[:, 1]], axis=1)
     rows = [pairs[:, 0]] + [np.full(f[0].size, m + j) for j, f in enumerate(found)]
@@ -460,160 +357,33 @@ def extract_crack_paths(
         return_predecessors=True,
         min_only=True,
     )
-    out = []
-    for j, (src, _, start) in enumerate(found):  # over seeds
-        if src.size == 0:
-            out.append(_empty(start, refs[j], init_len, dim))
-            continue
-        members = np.flatnonzero((owner[:m] == m + j) & (labels[:m] == labels[m + j]))
-        if members.size == 0:  # every first point is nearer another seed
-            out.append(_empty(start, refs[j], init_len, dim))
-            continue
-        out.append(
-            _skeleton(
-                pts,
-                idx,
-                pairs,
-                members,
-                g_all,
-                pred_all,
-                m + j,
-                start,
-                spacing,
-                width,
-                min_branch,
-                init_len,
-                window,
-                refs[j],
-            )
-        )
-    return out
+    return pairs, labels, g_all, pred_all, owner
 
 
-def _skeleton(
-    pts: NDArray[np.float64],
-    idx: NDArray[np.intp],
-    pairs: NDArray[np.intp],
-    members: NDArray[np.intp],
-    g_all: NDArray[np.float64],
-    pred_all: NDArray[np.int32],
-    root: int,
-    start: NDArray[np.float64],
-    spacing: float,
-    width: float,
-    min_branch: float,
+def _crack_path(
+    lines: list[NDArray[np.float64]],
+    lengths: NDArray[np.float64],
+    tip_index: int,
+    points: NDArray[np.intp],
+    g: NDArray[np.float64],
     init_len: float,
     window: float,
     ref: NDArray[np.float64],
 ) -> CrackPath:
-    """Polylines of one seed's cluster ``members`` (indices into ``pts``) from the
-    geodesic distances ``g_all`` and shortest-path predecessors ``pred_all`` (virtual
-    seed node ``root``)."""
-    dim = pts.shape[1]
-    m = pts.shape[0]
-    g = g_all[members]
-    k = members.size
-    local = np.full(m, -1, dtype=np.intp)
-    local[members] = np.arange(k)
-    pred = pred_all[members]
-    pred_local = np.where(pred >= m, -1, local[np.clip(pred, 0, m - 1)])  # -1: the seed
-
-    # --- level-set pieces: bins of g split into connected components
-    b = np.floor(g / width).astype(np.intp)
-    pl = local[pairs]  # pairs in cluster-local numbering (-1 if outside)
-    pl = pl[(pl[:, 0] >= 0) & (pl[:, 1] >= 0)]
-    ps = pl[b[pl[:, 0]] == b[pl[:, 1]]]
-    sub = sp.coo_matrix((np.ones(ps.shape[0]), (ps[:, 0], ps[:, 1])), shape=(k, k)).tocsr()
-    n_pc, piece = csgraph.connected_components(sub, directed=False)
-    counts = np.bincount(piece, minlength=n_pc).astype(np.float64)
-    cen = (
-        np.stack(
-            [np.bincount(piece, weights=pts[members, j], minlength=n_pc) for j in range(dim)],
-            axis=1,
-        )
-        / counts[:, None]
-    )
-    # nearest (min g) and farthest (max g) point of each piece
-    order = np.lexsort((g, piece))
-    first = order[np.searchsorted(piece[order], np.arange(n_pc), side="left")]
-    last = order[np.searchsorted(piece[order], np.arange(n_pc), side="right") - 1]
-    p_near = pred_local[first]
-    parent = np.where(p_near < 0, -1, piece[np.maximum(p_near, 0)])
-    pbin = b[first]
-    g_min = g[first]
-    reach = g[last].copy()  # becomes the farthest g below each piece
-
-    # --- subtree reach, bin by bin from the far end
-    by_bin = np.argsort(pbin, kind="stable")
-    bounds = np.searchsorted(pbin[by_bin], np.arange(pbin.max() + 2))
-    for level in range(int(pbin.max()), 0, -1):  # over bins (path vertices)
-        pcs = by_bin[bounds[level] : bounds[level + 1]]
-        has = parent[pcs] >= 0
-        np.maximum.at(reach, parent[pcs[has]], reach[pcs[has]])
-    # best child of every piece: the child reaching farthest
-    best_child = np.full(n_pc, -1, dtype=np.intp)
-    child = np.flatnonzero(parent >= 0)
-    if child.size:
-        o = np.lexsort((reach[child], parent[child]))
-        c_sorted = child[o]
-        par_sorted = parent[c_sorted]
-        is_last = np.r_[par_sorted[1:] != par_sorted[:-1], True]
-        best_child[par_sorted[is_last]] = c_sorted[is_last]
-
-    def chain_up(p: int) -> list[int]:
-        chain = []
-        while p >= 0:  # over path vertices
-            chain.append(p)
-            p = int(parent[p])
-        return chain[::-1]
-
-    def chain_down(p: int) -> list[int]:
-        chain = []
-        while p >= 0:  # over path vertices
-            chain.append(p)
-            p = int(best_child[p])
-        return chain
-
-    def polyline(chain: list[int]) -> NDArray[np.float64]:
-        tip_pt = pts[members[last[chain[-1]]]]
-        v = np.vstack([start[None, :], cen[chain], tip_pt[None, :]])
-        step = np.linalg.norm(np.diff(v, axis=0), axis=1)
-        return v[np.r_[True, step > 1e-9 * spacing]]  # no zero-length segments
-
-    main = chain_up(int(piece[int(np.argmax(g))]))
-    chains = [main]
-    on_path = np.zeros(n_pc, dtype=bool)
-    on_path[main] = True
-    long_enough = (reach - g_min) >= min_branch
-    while True:  # over branches kept
-        hang = np.where(parent >= 0, on_path[np.maximum(parent, 0)], True)  # from a path
-        roots = np.flatnonzero(hang & ~on_path & long_enough)  # or from the seed
-        if roots.size == 0:
-            break
-        r = int(roots[np.argmax(reach[roots])])
-        down = chain_down(r)
-        chains.append((chain_up(int(parent[r])) if parent[r] >= 0 else []) + down)
-        on_path[down] = True
-
-    lines = [polyline(c) for c in chains]
-    lengths = np.array([_arc(v)[-1] for v in lines])
-    order_b = np.r_[0, 1 + np.argsort(-lengths[1:], kind="stable")].astype(np.intp)
-    lines = [lines[i] for i in order_b]
-    lengths = lengths[order_b]
-
+    """The :class:`CrackPath` of the branch polylines ``lines`` (main branch first): arc
+    lengths, windowed angles and the initial angle of the main one."""
     v = lines[0]
-    arc = _arc(v)
+    arc = arc_lengths(v)
     length = float(arc[-1])
     half = 0.5 * window
     if length > 0.0:
-        ahead = np.stack([_point_at(v, arc, a + half) for a in arc])
-        behind = np.stack([_point_at(v, arc, a - half) for a in arc])
-        angles = _angles(ahead - behind, ref)
+        ahead = np.stack([point_at_arc(v, arc, a + half) for a in arc])
+        behind = np.stack([point_at_arc(v, arc, a - half) for a in arc])
+        angles = chord_angles(ahead - behind, ref)
         s0 = min(init_len, length)
-        init = float(_angles((_point_at(v, arc, s0) - v[0])[None, :], ref)[0])
+        init = float(chord_angles((point_at_arc(v, arc, s0) - v[0])[None, :], ref)[0])
     else:
         angles, s0, init = np.full(v.shape[0], math.nan), 0.0, math.nan
-    tip_local = int(members[last[main[-1]]])
     return CrackPath(
         vertices=v,
         length=length,
@@ -621,131 +391,11 @@ def _skeleton(
         angles_deg=angles,
         arc_length=arc,
         tip=v[-1].copy(),
-        tip_index=int(idx[tip_local]),
-        points=idx[members].astype(np.intp),
+        tip_index=int(tip_index),
+        points=points.astype(np.intp),
         geodesic=g,
         initial_length=s0,
         reference_direction=ref,
         branches=tuple(lines),
         branch_lengths=lengths,
     )
-
-
-def tip_speed_from_paths(
-    times: ArrayLike,
-    lengths: ArrayLike,
-    rayleigh_speed: float | None = None,
-    window: int = 5,
-) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
-    """Crack-tip speed from a history of crack-path lengths.
-
-    The speed at record i is the least-squares slope of length against time over the
-    ``window`` records centred on i (clipped at both ends of the history), which smooths
-    the grid-scale jumps of a path that grows one bond at a time.
-
-    Parameters
-    ----------
-    times : array_like, shape (r,)
-        Record times, s, increasing.
-    lengths : array_like, shape (r,)
-        Crack-path length at each time, m (``CrackPath.length``).
-    rayleigh_speed : float, optional
-        Rayleigh-wave speed c_R of the model as run, m/s (:func:`rayleigh_speed`).
-    window : int, optional
-        Records in the fitting window (>= 2; default 5).
-
-    Returns
-    -------
-    speeds : ndarray, shape (r,)
-        Tip speed, m/s. Never clipped: a speed above c_R is what the data say.
-    flagged : ndarray of bool, shape (r,)
-        True where the speed exceeds ``rayleigh_speed`` (all False without it): a speed
-        no mode-I crack reaches in a linear elastic solid (Freund (1990)), to be checked
-        (a jump between cracks, a branch overtaking the main path, too coarse a record).
-    """
-    t = np.asarray(times, dtype=np.float64).reshape(-1)
-    s = np.asarray(lengths, dtype=np.float64).reshape(-1)
-    if t.shape != s.shape:
-        raise ValueError("times and lengths must have the same length")
-    if window < 2:
-        raise ValueError("window must be >= 2")
-    r = t.size
-    if r < 2:
-        return np.zeros(r), np.zeros(r, dtype=bool)
-    if np.any(np.diff(t) <= 0.0):
-        raise ValueError("times must increase")
-    scale = (t[-1] - t[0]) / (r - 1)
-    tt = (t - t[0]) / scale  # dimensionless, O(1) steps: well-conditioned sums
-    lo = np.clip(np.arange(r) - window // 2, 0, None)
-    hi = np.clip(lo + window, None, r)
-    lo = np.clip(hi - window, 0, None)
-
-    def csum(a: NDArray[np.float64]) -> NDArray[np.float64]:
-        c = np.concatenate([[0.0], np.cumsum(a)])
-        return c[hi] - c[lo]
-
-    cnt = (hi - lo).astype(np.float64)
-    st, ss, stt, sts = csum(tt), csum(s), csum(tt * tt), csum(tt * s)
-    den = cnt * stt - st * st
-    with np.errstate(invalid="ignore", divide="ignore"):
-        slope = np.where(den > 0.0, (cnt * sts - st * ss) / den, 0.0)
-    speeds = slope / scale
-    flagged = speeds > rayleigh_speed if rayleigh_speed is not None else np.zeros(r, dtype=bool)
-    return speeds, np.asarray(flagged, dtype=bool)
-
-
-def rayleigh_speed(
-    E: float,
-    nu: float | None,
-    rho: float,
-    plane: Literal["stress", "strain", "3d"] = "stress",
-    method: Literal["viktorov", "exact"] = "viktorov",
-) -> float:
-    """Rayleigh-wave speed c_R of an isotropic elastic solid, m/s.
-
-    Parameters
-    ----------
-    E : float
-        Young's modulus (the 3-D one, as in the deck), Pa.
-    nu : float or None
-        Poisson's ratio; None takes the value bond-based PMB fixes: 1/3 in plane stress,
-        1/4 in plane strain and 3-D.
-    rho : float
-        Density, kg/m^3.
-    plane : {"stress", "strain", "3d"}
-        Plane stress and plane strain share the shear modulus mu = E / (2 (1 + nu)).
-        The in-plane equations of plane stress are those of plane strain with
-        nu* = nu / (1 + nu) (same mu; c_s / c_p = sqrt((1 - nu) / 2)), so the plane
-        stress value uses nu* in the formula below. Plane strain and 3-D use nu.
-    method : {"viktorov", "exact"}
-        "viktorov": c_R = c_s (0.862 + 1.14 nu) / (1 + nu), c_s = sqrt(mu / rho)
-        (Viktorov (1967); below the exact root by less than 0.3 % for
-        0.2 <= nu < 0.5, by 1.4 % at nu = 0).
-        "exact": the root in (0, c_s) of the Rayleigh equation
-        (2 - eta^2)^2 = 4 sqrt(1 - k^2 eta^2) sqrt(1 - eta^2), eta = c / c_s,
-        k = c_s / c_p (Achenbach (1973)).
-
-    Returns
-    -------
-    float
-        c_R, m/s. For the PMB model in plane stress (nu = 1/3, nu* = 1/4):
-        0.9176 c_s (Viktorov), 0.9194 c_s (exact).
-    """
-    if plane not in ("stress", "strain", "3d"):
-        raise ValueError(f"plane must be 'stress', 'strain' or '3d', got {plane!r}")
-    if nu is None:
-        nu = 1.0 / 3.0 if plane == "stress" else 0.25
-    if not (E > 0.0 and rho > 0.0 and -1.0 < nu < 0.5):
-        raise ValueError("need E > 0, rho > 0 and -1 < nu < 0.5")
-    mu = E / (2.0 * (1.0 + nu))
-    c_s = math.sqrt(mu / rho)
-    nv = nu / (1.0 + nu) if plane == "stress" else nu
-    if method == "viktorov":
-        return c_s * (0.862 + 1.14 * nv) / (1.0 + nv)
-    if method != "exact":
-        raise ValueError(f"method must be 'viktorov' or 'exact', got {method!r}")
-    k2 = (1.0 - 2.0 * nv) / (2.0 * (1.0 - nv))
-    # eta^6 - 8 eta^4 + (24 - 16 k^2) eta^2 - 16 (1 - k^2) = 0, a cubic in eta^2
-    roots = np.roots([1.0, -8.0, 24.0 - 16.0 * k2, -16.0 * (1.0 - k2)])
-    real = roots[(np.abs(roots.imag) < 1e-10) & (roots.real > 0.0) & (roots.real < 1.0)]
-    return c_s * math.sqrt(float(real.real.min()))

@@ -192,6 +192,26 @@ def _stresses(u: F, r: F, M: float, lam: float) -> tuple[F, F]:
     return M * du + lam * ur, lam * du + M * ur
 
 
+def _output_times(
+    output_times: Sequence[float] | None, n_steps: int, dt: float, end_time: float
+) -> NDArray[np.floating]:
+    """The output times (s): every step (``None``) or ``output_times`` checked and clipped
+    to [0, end_time]."""
+    if output_times is None:
+        t_out = np.arange(n_steps + 1) * dt
+        t_out[-1] = end_time
+        return t_out
+    t_out = np.asarray(output_times, dtype=float).ravel()
+    if t_out.size == 0 or not np.all(np.isfinite(t_out)):
+        raise ValueError("output_times must be a non-empty sequence of finite times (s)")
+    if np.any(np.diff(t_out) < 0):
+        raise ValueError("output_times must be non-decreasing")
+    eps = 1e-12 * end_time
+    if t_out[0] < -eps or t_out[-1] > end_time + eps:
+        raise ValueError(f"output_times must lie in [0, end_time = {end_time}] s")
+    return np.clip(t_out, 0.0, end_time)
+
+
 def solve_radial_cavity(
     inner_radius: float,
     outer_radius: float,
@@ -248,19 +268,7 @@ def solve_radial_cavity(
     n_steps = max(1, math.ceil(end_time / (cfl * dt_stable) - 1e-9))
     dt = end_time / n_steps
 
-    if output_times is None:
-        t_out = np.arange(n_steps + 1) * dt
-        t_out[-1] = end_time
-    else:
-        t_out = np.asarray(output_times, dtype=float).ravel()
-        if t_out.size == 0 or not np.all(np.isfinite(t_out)):
-            raise ValueError("output_times must be a non-empty sequence of finite times (s)")
-        if np.any(np.diff(t_out) < 0):
-            raise ValueError("output_times must be non-decreasing")
-        eps = 1e-12 * end_time
-        if t_out[0] < -eps or t_out[-1] > end_time + eps:
-            raise ValueError(f"output_times must lie in [0, end_time = {end_time}] s")
-        t_out = np.clip(t_out, 0.0, end_time)
+    t_out = _output_times(output_times, n_steps, dt, end_time)
     s = t_out / dt
     k_out = np.minimum(np.floor(s + 1e-9).astype(np.int64), n_steps - 1)
     w_out = np.clip(s - k_out, 0.0, 1.0)

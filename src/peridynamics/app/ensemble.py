@@ -20,6 +20,15 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from peridynamics.app.checks import (
+    built_problem,
+    err,
+    load_from_args,
+    out_of_memory,
+    refuse,
+    size_problem,
+)
+from peridynamics.app.exit_codes import EXIT_INTERRUPTED, EXIT_INVALID, EXIT_OK, EXIT_UNSTABLE
 from peridynamics.parallel.launch import LaunchError, mpi_comm, share_cores
 
 
@@ -55,20 +64,18 @@ def assign(n: int, ranks: int, rank: int) -> list[int]:
 def _check(args: argparse.Namespace) -> tuple[Any, int]:
     """The deck if the command can run (code 0), else ``None`` and the exit code; the
     reasons go to stderr."""
-    from peridynamics.cli import EXIT_INVALID, _err, _load, _refuse, _size_problem
-
     if args.n < 1:
-        _err("--n must be >= 1")
+        err("--n must be >= 1")
         return None, EXIT_INVALID
-    deck = _load(args)
+    deck = load_from_args(args)
     if deck is None:
         return None, EXIT_INVALID
     if deck.damage.weibull is None:
-        _err("ensemble: the deck has no damage.weibull section (nothing to vary)")
+        err("ensemble: the deck has no damage.weibull section (nothing to vary)")
         return None, EXIT_INVALID
-    problem = _size_problem(deck, args.allow_large)
+    problem = size_problem(deck, args.allow_large)
     if problem:
-        return None, _refuse(problem)
+        return None, refuse(problem)
     return deck, 0
 
 
@@ -76,16 +83,9 @@ def _run_members(
     args: argparse.Namespace, out: Path, seeds: list[int], prefix: str, catch_ctrl_c: bool
 ) -> tuple[list[dict[str, Any]], Problem | None]:
     """Run the realisations of ``seeds`` one after the other; stop at the first problem."""
+    from peridynamics.deck import DeckError, load_deck
     from peridynamics.app.run import RunInterrupted, Simulation
     from peridynamics.build.errors import SetupError
-    from peridynamics.cli import (
-        EXIT_INTERRUPTED,
-        EXIT_UNSTABLE,
-        _built_problem,
-        _out_of_memory,
-        _refuse,
-    )
-    from peridynamics.deck import DeckError, load_deck
     from peridynamics.solvers import SimulationUnstable
 
     runs: list[dict[str, Any]] = []
@@ -93,14 +93,14 @@ def _run_members(
         try:
             member = load_deck(args.deck, [*(args.set or []), f"damage.weibull.seed={seed}"])
             sim = Simulation.from_deck(member)
-            problem = _built_problem(sim, args.allow_large)
+            problem = built_problem(sim, args.allow_large)
             if problem:
-                return runs, Problem(seed, *_said(_refuse, problem))
+                return runs, Problem(seed, *_said(refuse, problem))
             summary = sim.run(out / f"seed_{seed}", quiet=True)
         except (DeckError, SetupError) as exc:
-            return runs, Problem(seed, *_said(_refuse, str(exc)))
+            return runs, Problem(seed, *_said(refuse, str(exc)))
         except MemoryError as exc:
-            return runs, Problem(seed, *_said(_out_of_memory, exc))
+            return runs, Problem(seed, *_said(out_of_memory, exc))
         except SimulationUnstable as exc:
             return runs, Problem(seed, EXIT_UNSTABLE, f"error (seed {seed}): {exc}\n")
         except RunInterrupted as exc:
@@ -151,8 +151,6 @@ def _finish(
     ranks: int,
 ) -> int:  # fmt: skip
     """Report the first problem, or write ensemble.json and print the spread."""
-    from peridynamics.cli import EXIT_OK
-
     if problem is not None:
         done = f"; {len(runs)} run(s) done\n" if problem.interrupted else ""
         sys.stderr.write(problem.message + done)
@@ -194,8 +192,6 @@ def cmd_ensemble(args: argparse.Namespace) -> int:
     before anything runs; a problem on any rank (invalid deck, unstable run, Ctrl-C) is
     gathered with the runs, rank 0 reports the first one (lowest seed) and every rank
     returns the same exit code: 0, 2 invalid, 3 unstable, 130 interrupted."""
-    from peridynamics.cli import EXIT_INVALID
-
     try:
         comm = mpi_comm()
     except LaunchError as exc:

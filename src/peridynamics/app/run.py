@@ -19,11 +19,11 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from peridynamics import deck as dk
 from peridynamics.app.run_progress import StopRequest, progress_bar
 from peridynamics.app.run_resume import resume_point
 from peridynamics.build.outputs import run_options
 from peridynamics.build.simulation import SimulationSetup
-from peridynamics import deck as dk
 from peridynamics.io.checkpoint import CHECKPOINT_NAME
 from peridynamics.io.observers.base import Observer, RunContext, RunOptions, new_records
 from peridynamics.io.observers.events import CrashAtStep

@@ -14,7 +14,7 @@ included through the factor ``mu_k`` (0 or 1) as on the host:
 * correspondence: ``active_i W(F_i)`` of the law's NumPy ``energy_density`` plus
   :func:`peridynamics.kernels.correspondence.stabilization_energy`, F and the
   stabilisation coefficient from the device pre-pass
-  (:data:`peridynamics.backends._warp_correspondence_dsl.corr_prepass`).
+  (:data:`peridynamics.backends._warp_correspondence_prepass_dsl.corr_prepass`).
 """
 
 from __future__ import annotations

@@ -34,10 +34,10 @@ try:
         corr_commit,
         corr_degenerate,
         corr_force,
-        corr_prepass,
         corr_propose,
         corr_spread,
     )
+    from peridynamics.backends._warp_correspondence_prepass_dsl import corr_prepass
 except ImportError:  # pragma: no cover - warp-lang absent
     pass
 

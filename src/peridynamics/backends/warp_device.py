@@ -178,3 +178,37 @@ class DeviceExtra(Protocol):
     def add(self, ds: DeviceState) -> None:
         """Add this term's force density to ``ds.force``."""
         ...
+
+
+#: device bytes per directed bond of a PMB run: neighbour index 4, stiffness 8, flags 1,
+#: the last good flags 1, partial volume 8 (damage of outputs); other families add theirs
+DEVICE_BYTES_PER_BOND = 22
+#: device bytes per point and component: u, v, force, body, u_prev, their last good
+#: copies, positions, loads
+DEVICE_BYTES_PER_POINT_COMPONENT = 8 * 12
+
+
+def device_bytes(model: Any) -> int:
+    """Estimated device memory of a run (bytes), before anything is allocated."""
+    n, d = model.cloud.n_points, model.cloud.dim
+    return int(
+        model.bonds.n_bonds * DEVICE_BYTES_PER_BOND + n * d * DEVICE_BYTES_PER_POINT_COMPONENT
+    )
+
+
+def check_device_memory(model: Any, device: str) -> None:
+    """ValueError naming ``solver.device`` when the model cannot fit the GPU's free
+    memory (the CPU device shares the host's memory, which the command line checks)."""
+    if not device.startswith("cuda"):
+        return
+    import warp as wp
+
+    free = getattr(wp.get_device(device), "free_memory", None)
+    need = device_bytes(model)
+    if free is not None and need > 0.9 * free:
+        raise ValueError(
+            f"the model needs about {need / 2**30:.1f} GiB on {device} "
+            f"({model.bonds.n_bonds:,} directed bonds), {free / 2**30:.1f} GiB are free; "
+            "use a coarser discretisation.spacing, or solver.device: cpu / "
+            "solver.backend: numba"
+        )

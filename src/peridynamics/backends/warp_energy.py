@@ -21,7 +21,7 @@ import numpy as np
 from peridynamics.backends.warp_device import DeviceModel, DeviceState
 
 try:
-    from peridynamics.backends._warp_correspondence_dsl import corr_prepass
+    from peridynamics.backends._warp_correspondence_prepass_dsl import corr_prepass
     from peridynamics.backends._warp_energy_dsl import (
         corr_energy_density,
         lps_energy_density,

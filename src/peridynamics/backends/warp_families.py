@@ -152,9 +152,9 @@ def unsupported(model: Any, integrator: str = "velocity_verlet") -> tuple[str, s
             "backend (pmb, lps and correspondence are)",
         )
     if model.contact is not None:
-        from peridynamics.backends import warp_contact
+        from peridynamics.backends import warp_short_range_contact
 
-        why = warp_contact.supports(model)
+        why = warp_short_range_contact.supports(model)
         if why:
             return "contact", why
     if model._viscous is not None:
@@ -190,7 +190,7 @@ def device_terms(model: Any, dm: DeviceModel) -> tuple[Any, list[Any]]:
         family = DevicePMB(model, dm)
     extras: list[Any] = []
     if model.contact is not None:
-        from peridynamics.backends.warp_contact import DeviceContact
+        from peridynamics.backends.warp_short_range_contact import DeviceContact
 
         extras.append(DeviceContact(model, dm))
     if model.damping > 0:

@@ -6,9 +6,10 @@ on the device: the integrator, the kinematic conditions, the body-force loads, t
 family's force pass with its damage law (:mod:`peridynamics.backends.warp_families`),
 contact, mass damping and viscosity run as Warp kernels on arrays that stay on the
 device. The State the run loop and the observers hold mirrors the device lazily
-(:class:`MirrorFields`): a field is copied back the first time it is read after a step,
-so observers copy back only at their interval. Per step the host reads one integer
-(bonds broken); every ``check_every`` steps one more (the first unsound point).
+(:class:`~peridynamics.backends.warp_mirror.MirrorFields`): a field is copied back the
+first time it is read after a step, so observers copy back only at their interval. Per
+step the host reads one integer (bonds broken); every ``check_every`` steps one more (the
+first unsound point).
 
 The set-up (bond list, stiffness, surface correction, first force evaluation) is the
 host's; the state at t = 0 is uploaded once.
@@ -23,8 +24,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.backends import _warp_step_dsl as k
-from peridynamics.backends.warp_device import DeviceModel, DeviceState, pick_device, to_device
+from peridynamics.backends.warp_device import (
+    DeviceModel,
+    DeviceState,
+    check_device_memory,
+    pick_device,
+    to_device,
+)
 from peridynamics.backends.warp_families import device_terms
+from peridynamics.backends.warp_mirror import MirrorFields
 from peridynamics.loading.conditions import (
     Fixed,
     PrescribedDisplacement,
@@ -39,50 +47,6 @@ try:
     from peridynamics.backends._warp_dsl import _damage
 except ImportError:  # pragma: no cover - warp-lang absent: importable, not runnable
     _damage = None
-
-
-class MirrorFields(dict):  # type: ignore[type-arg]
-    """The fields of a State whose arrays live on a device: host arrays refreshed from
-    the device on first read after :meth:`mark_stale` (a step)."""
-
-    def __init__(self, host: dict[str, NDArray], ds: DeviceState, on_read: Any = None) -> None:
-        super().__init__(host)
-        self._ds = ds
-        self._stale: set[str] = set()
-        #: called once on the first read after a step (the host model's SED stiffness
-        #: follows the levels then, for outputs that read the stiffness)
-        self._on_read = on_read
-        self._pending = False
-        #: device-to-host copies made (bytes), for the summary
-        self.copied_bytes = 0
-
-    def mark_stale(self) -> None:
-        """Every device field changed (after a step)."""
-        self._stale = set(self._ds.fields)
-        self._pending = self._on_read is not None
-
-    def __getitem__(self, name: str) -> Any:
-        if self._pending:
-            self._pending = False
-            self._on_read()
-        a = super().__getitem__(name)
-        if name in self._stale:
-            self._ds.download(name, a)
-            self.copied_bytes += a.nbytes
-            self._stale.discard(name)
-        return a
-
-    def get(self, name: str, default: Any = None) -> Any:
-        return self[name] if name in self else default
-
-    def __iter__(self) -> Any:  # a Python-level iterator: dict(m) goes through []
-        return iter(list(super().keys()))
-
-    def items(self) -> Any:
-        return [(name, self[name]) for name in list(super().keys())]
-
-    def values(self) -> Any:
-        return [self[name] for name in list(super().keys())]
 
 
 @dataclass
@@ -101,7 +65,7 @@ class WarpExplicitSolver(ExplicitSolver):
     def __post_init__(self) -> None:
         super().__post_init__()
         self.device_name = pick_device(self.device)
-        _check_device_memory(self.model, self.device_name)
+        check_device_memory(self.model, self.device_name)
         self.dm = DeviceModel(self.model, self.device_name)
         self.family, self.extras = device_terms(self.model, self.dm)
         inv = 1.0 / np.asarray(self.model.density, dtype=np.float64)
@@ -364,40 +328,6 @@ class WarpExplicitSolver(ExplicitSolver):
         for name, a in s.fields.items():  # host-only fields (none in practice)
             fields.setdefault(name, np.array(a))
         return State(t, step, broken, phase, **fields)
-
-
-#: device bytes per directed bond of a PMB run: neighbour index 4, stiffness 8, flags 1,
-#: the last good flags 1, partial volume 8 (damage of outputs); other families add theirs
-DEVICE_BYTES_PER_BOND = 22
-#: device bytes per point and component: u, v, force, body, u_prev, their last good
-#: copies, positions, loads
-DEVICE_BYTES_PER_POINT_COMPONENT = 8 * 12
-
-
-def device_bytes(model: Any) -> int:
-    """Estimated device memory of a run (bytes), before anything is allocated."""
-    n, d = model.cloud.n_points, model.cloud.dim
-    return int(
-        model.bonds.n_bonds * DEVICE_BYTES_PER_BOND + n * d * DEVICE_BYTES_PER_POINT_COMPONENT
-    )
-
-
-def _check_device_memory(model: Any, device: str) -> None:
-    """ValueError naming ``solver.device`` when the model cannot fit the GPU's free
-    memory (the CPU device shares the host's memory, which the command line checks)."""
-    if not device.startswith("cuda"):
-        return
-    import warp as wp
-
-    free = getattr(wp.get_device(device), "free_memory", None)
-    need = device_bytes(model)
-    if free is not None and need > 0.9 * free:
-        raise ValueError(
-            f"the model needs about {need / 2**30:.1f} GiB on {device} "
-            f"({model.bonds.n_bonds:,} directed bonds), {free / 2**30:.1f} GiB are free; "
-            "use a coarser discretisation.spacing, or solver.device: cpu / "
-            "solver.backend: numba"
-        )
 
 
 def _per_node(load: Any, dim: int) -> NDArray[np.float64]:

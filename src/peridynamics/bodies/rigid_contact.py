@@ -4,7 +4,7 @@
 An analytic shape is given in the world frame at t = 0 (its body frame). The body turns
 about its reference point ``G0`` (centroid) and translates by ``Delta``, so a body-frame
 point ``p`` is at ``R (p - G0) + G0 + Delta = R p + trans`` with
-``trans = G0 + Delta - R G0``, the pose of :mod:`peridynamics.bodies.contact`. A point
+``trans = G0 + Delta - R G0``, the pose of :mod:`peridynamics.bodies.rigid_contact_forces`. A point
 set is stored relative to ``G0`` (``trans = G``). The laws return the torque about
 ``trans``; it is moved to the reference point here: ``tau_G = tau_trans - (G - trans) x F``,
 and the velocity of ``trans`` is ``v_G + omega x (trans - G)``.
@@ -18,7 +18,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.bodies import shapes
-from peridynamics.bodies.contact import Pose, RigidPointsContact, RigidShapeContact, Twist
+from peridynamics.bodies.rigid_contact_forces import (
+    Pose,
+    RigidPointsContact,
+    RigidShapeContact,
+    Twist,
+)
 
 F64 = NDArray[np.float64]
 
@@ -55,8 +60,8 @@ class BodyContact:
     Parameters
     ----------
     law : RigidShapeContact or RigidPointsContact
-        :mod:`peridynamics.bodies.contact`; an analytic shape is given in the world frame
-        at t = 0, a point set relative to ``G0``.
+        :mod:`peridynamics.bodies.rigid_contact_forces`; an analytic shape is given in the
+        world frame at t = 0, a point set relative to ``G0``.
     reference : (dim,) G0 (m).
     relative : bool
         True when the law's body frame has its origin at G0 (point sets).

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from peridynamics import deck as dk
 from peridynamics.bodies.build import BodyLayout, assemble_points, build_interfaces, split_bonds
 from peridynamics.bodies.composite import (
     BodiesDamage,
@@ -30,9 +31,8 @@ from peridynamics.build.geometry import geometry_cloud
 from peridynamics.build.loads import time_function
 from peridynamics.build.materials import build_damage, build_material
 from peridynamics.build.regions import to_region
-from peridynamics.geometry.cloud import PointCloud
-from peridynamics import deck as dk
 from peridynamics.evaluation import Model
+from peridynamics.geometry.cloud import PointCloud
 
 
 def has_bodies(deck: dk.Deck) -> bool:

@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from peridynamics import deck as dk
 from peridynamics.bonds import build_bonds, make_crack
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.build.bodies import build_body_points, has_bodies
@@ -21,7 +22,6 @@ from peridynamics.build.errors import SetupError
 from peridynamics.build.geometry import geometry_cloud
 from peridynamics.build.regions import to_region
 from peridynamics.geometry import Notch, PointCloud
-from peridynamics import deck as dk
 
 
 def deck_notches(deck: dk.Deck) -> list[Notch]:

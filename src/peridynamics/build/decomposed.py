@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from peridynamics import deck as dk
 from peridynamics.bonds.partial_volume import search_radius
 from peridynamics.build.bodies import has_bodies
 from peridynamics.build.cloud import build_bonds_for, build_cloud
@@ -20,7 +21,6 @@ from peridynamics.build.loads import build_conditions
 from peridynamics.build.materials import build_model
 from peridynamics.build.solvers import build_solver
 from peridynamics.communicator import using
-from peridynamics import deck as dk
 from peridynamics.parallel.local import (
     decompose,
     local_cloud,

@@ -10,10 +10,10 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+from peridynamics import deck as dk
 from peridynamics.build.errors import SetupError
 from peridynamics.build.regions import to_region
 from peridynamics.geometry import PointCloud, bar, box, cylinder, disc, from_mesh, rectangle
-from peridynamics import deck as dk
 
 
 def _bar(g: Any, d: dk.Discretisation) -> PointCloud:

@@ -11,10 +11,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from peridynamics import deck as dk
 from peridynamics.build.errors import SetupError
 from peridynamics.geometry import PointCloud
-from peridynamics import deck as dk
 from peridynamics.loading import conditions as bc
+from peridynamics.loading import initial_fields
 from peridynamics.loading import time_functions as tf
 
 COMP = {"x": 0, "y": 1, "z": 2}
@@ -158,8 +159,8 @@ def _initial_field(
     path = f"boundary_conditions.{ibc}"
     if spec.file is not None:
         try:
-            values = bc.read_point_values(spec.file, cloud.dim)
-            return bc.point_rows(values, nodes, cloud.n_points, Path(spec.file).name)
+            values = initial_fields.read_point_values(spec.file, cloud.dim)
+            return initial_fields.point_rows(values, nodes, cloud.n_points, Path(spec.file).name)
         except ValueError as exc:
             raise SetupError(f"{path}.file", str(exc)) from None
     assert spec.value is not None
@@ -172,7 +173,7 @@ def _initial_field(
             out[:, k] = float(comp)
             continue
         try:
-            out[:, k] = bc.FieldExpression(comp)(x)
+            out[:, k] = initial_fields.FieldExpression(comp)(x)
         except ValueError as exc:
             raise SetupError(f"{path}.value.{k}", str(exc)) from None
         bad = ~np.isfinite(out[:, k])

@@ -14,14 +14,14 @@ from typing import Any
 
 import numpy as np
 
+from peridynamics import deck as dk
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.build.errors import SetupError
 from peridynamics.damage import NO_DAMAGE, CriticalStretch, SEDSoftening, WeibullField
-from peridynamics.geometry import PointCloud
-from peridynamics import deck as dk
+from peridynamics.evaluation import Model
 from peridynamics.families.registry import MATERIALS
 from peridynamics.families.viscosity import BondViscosity
-from peridynamics.evaluation import Model
+from peridynamics.geometry import PointCloud
 
 
 def _bond_based(m: Any) -> Any:

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Self
 
+from peridynamics import deck as dk
 from peridynamics.build.bodies import (
     body_layout,
     build_bodies_model,
@@ -25,10 +26,9 @@ from peridynamics.build.errors import SetupError
 from peridynamics.build.loads import build_conditions
 from peridynamics.build.materials import build_contact, build_material, build_model
 from peridynamics.build.solvers import build_solver
-from peridynamics.geometry import PointCloud
-from peridynamics import deck as dk
-from peridynamics.families.registry import MATERIALS
 from peridynamics.evaluation import Model
+from peridynamics.families.registry import MATERIALS
+from peridynamics.geometry import PointCloud
 from peridynamics.solvers.base import Solver
 from peridynamics.solvers.fdm import FDMModel1D
 

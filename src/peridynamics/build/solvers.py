@@ -7,12 +7,12 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+from peridynamics import deck as dk
 from peridynamics.bonds import build_bonds
 from peridynamics.build.errors import SetupError
 from peridynamics.damage import NO_DAMAGE
-from peridynamics.geometry import PointCloud
-from peridynamics import deck as dk
 from peridynamics.evaluation import Model
+from peridynamics.geometry import PointCloud
 from peridynamics.solvers.base import Solver
 from peridynamics.solvers.explicit import ExplicitSolver
 from peridynamics.solvers.fdm import FDMModel1D
@@ -141,8 +141,8 @@ def build_static(
     deck: dk.Deck, cloud: PointCloud, model: Model, body: list, kin: list, init: list
 ) -> Solver:
     """The implicit static solver from ``solver: {type: static, ...}`` (every key of the
-    section is a keyword of :class:`~peridynamics.solvers.newton.StaticSolver`)."""
-    from peridynamics.solvers.newton import StaticSolver
+    section is a keyword of :class:`~peridynamics.solvers.static.StaticSolver`)."""
+    from peridynamics.solvers.static import StaticSolver
 
     if init:
         raise ValueError("initial velocities have no meaning in a static run")

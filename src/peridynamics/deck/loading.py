@@ -45,7 +45,7 @@ class FixedBC(_OnSet):
 
 def _field_component(v: Any) -> float | str:
     """One component of an initial field: a finite number, or an expression of the
-    coordinates (checked here by :class:`peridynamics.loading.conditions.FieldExpression`)."""
+    coordinates (checked here by :class:`peridynamics.loading.initial_fields.FieldExpression`)."""
     if isinstance(v, bool):
         raise ValueError("a number or an expression of x, y, z is expected, not true/false")
     if isinstance(v, int | float):
@@ -53,7 +53,7 @@ def _field_component(v: Any) -> float | str:
             raise ValueError("Input should be a finite number")
         return float(v)
     if isinstance(v, str):
-        from peridynamics.loading.conditions import FieldExpression
+        from peridynamics.loading.initial_fields import FieldExpression
 
         FieldExpression(v)  # raises ValueError saying what is not allowed
         return v
@@ -192,7 +192,7 @@ def _vector_errors(bc: Any, path: str, dim: int) -> Errors:
     if isinstance(bc, TractionBC) and bc.normal is None and not any(bc.value):
         errors.append((f"{path}.normal", "give a normal when the traction value is zero"))
     if isinstance(bc, InitialVelocityBC) and bc.value is not None:
-        from peridynamics.loading.conditions import FieldExpression
+        from peridynamics.loading.initial_fields import FieldExpression
 
         for k, comp in enumerate(bc.value):
             if isinstance(comp, str):

@@ -20,9 +20,9 @@ from peridynamics.state import State
 
 if TYPE_CHECKING:
     from peridynamics.bonds.bonds import Bonds
+    from peridynamics.communicator import Communicator
     from peridynamics.families.base import ForceModel
     from peridynamics.geometry.cloud import PointCloud
-    from peridynamics.communicator import Communicator
 
 
 class Measures:

@@ -18,8 +18,8 @@ from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.geometry.cloud import PointCloud
-from peridynamics.kernels import contact as kernels
-from peridynamics.kernels import contact_friction as friction_kernels
+from peridynamics.kernels import short_range_contact as kernels
+from peridynamics.kernels import short_range_friction as friction_kernels
 
 #: LAMMPS PERI (pair_peri_pmb.cpp) multiplies the micromodulus by this constant, taken
 #: from the EMU theory manual (Silling 2005)

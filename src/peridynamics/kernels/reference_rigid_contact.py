@@ -7,16 +7,28 @@ returns ``(F, body_force, torque, power, count)``: the force density (n, dim) (N
 the force on the body ``-sum V_i F_i`` (dim,) (N), its torque about the pose
 translation as a 3-vector (N m; 2-D: ``(0, 0, tau_z)``), the friction power
 ``sum V_i F_t . v_t`` (W) and the number of points in contact.
+
+An analytic shape is any object with ``evaluate(p) -> (phi, normal)``, the signed
+distance (m,) and outward normal (m, dim) of body-frame points p (m, dim) (the shapes of
+:mod:`peridynamics.bodies.shapes` are such objects); this module imports none of them.
 """
 
 from __future__ import annotations
 
+from typing import Protocol
+
 import numpy as np
 from numpy.typing import NDArray
 
-from peridynamics.bodies.shapes import Shape
-
 F = NDArray[np.float64]
+
+
+class Shape(Protocol):
+    """A signed-distance shape in its body frame (module doc)."""
+
+    def evaluate(self, p: F) -> tuple[F, F]:
+        """Signed distance (m,) (m) and outward unit normal (m, dim) of body-frame points."""
+        ...
 
 
 def _pad3(a: F) -> F:

@@ -1,6 +1,6 @@
 """Contact of an analytic rigid shape with deformable points: Numba kernels.
 
-Used by :class:`peridynamics.bodies.contact.RigidShapeContact`, which documents the
+Used by :class:`peridynamics.bodies.rigid_contact_forces.RigidShapeContact`, which documents the
 physics; the NumPy twins are in :mod:`peridynamics.kernels.reference_rigid_contact`.
 One kernel handles every shape through its integer code and flat parameter vector
 (:mod:`peridynamics.bodies.shapes`: plane 0, box 1, sphere 2, cylinder 3).

@@ -1,7 +1,7 @@
 """Contact of a rigid body made of points (a striker or platen cut from a point cloud)
 with deformable points: Numba kernels.
 
-Used by :class:`peridynamics.bodies.contact.RigidPointsContact`, which documents the
+Used by :class:`peridynamics.bodies.rigid_contact_forces.RigidPointsContact`, which documents the
 physics; the brute-force NumPy twin is in
 :mod:`peridynamics.kernels.reference_rigid_contact`.
 

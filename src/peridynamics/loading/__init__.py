@@ -1,6 +1,7 @@
 """Loading: boundary/initial conditions on node sets and their time functions."""
 
-from peridynamics.loading.blast import BlastPulse, BlastRangeWarning, kingery_bulmash
+from peridynamics.loading.blast import BlastPulse
+from peridynamics.loading.blast_parameters import BlastRangeWarning, kingery_bulmash
 from peridynamics.loading.conditions import (
     BodyForce,
     Fixed,
@@ -11,7 +12,6 @@ from peridynamics.loading.conditions import (
     traction_as_body_force,
 )
 from peridynamics.loading.time_functions import (
-    TIME_FUNCTIONS,
     Constant,
     Ramp,
     SinePulse,
@@ -21,7 +21,16 @@ from peridynamics.loading.time_functions import (
     TriangularPulse,
 )
 
-TIME_FUNCTIONS = {**TIME_FUNCTIONS, "blast": BlastPulse}
+#: every time function by its deck name
+TIME_FUNCTIONS = {
+    "constant": Constant,
+    "ramp": Ramp,
+    "table": Table,
+    "triangular_pulse": TriangularPulse,
+    "sine_pulse": SinePulse,
+    "square_pulse": SquarePulse,
+    "blast": BlastPulse,
+}
 
 __all__ = [
     "TIME_FUNCTIONS",

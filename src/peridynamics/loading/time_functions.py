@@ -111,13 +111,3 @@ class SquarePulse(TimeFunction):
 
     def __call__(self, t: float) -> float:
         return 1.0 if 0 <= t <= self.duration else 0.0
-
-
-TIME_FUNCTIONS = {
-    "constant": Constant,
-    "ramp": Ramp,
-    "table": Table,
-    "triangular_pulse": TriangularPulse,
-    "sine_pulse": SinePulse,
-    "square_pulse": SquarePulse,
-}

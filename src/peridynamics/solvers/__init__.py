@@ -1,4 +1,4 @@
-"""Solvers: explicit dynamics now; ADR, implicit, FDM and hybrids in later issues."""
+"""Solvers: explicit dynamics, adaptive dynamic relaxation, static (Newton), FDM and hybrids."""
 
 from peridynamics.solvers.explicit import (
     INTEGRATORS,
@@ -6,6 +6,6 @@ from peridynamics.solvers.explicit import (
     SimulationUnstable,
     UnstableTimeStep,
 )
-from peridynamics.solvers.state import State
+from peridynamics.state import State
 
 __all__ = ["INTEGRATORS", "ExplicitSolver", "SimulationUnstable", "State", "UnstableTimeStep"]

@@ -76,6 +76,10 @@ equilibrium solve) ends the load step with ``StepResult(converged=False)``, the 
 steps and says so in ``message``. With ``stop_on_failure=True`` the run then ends
 (:meth:`ADRSolver.done`). A non-finite solution raises
 :class:`~peridynamics.solvers.explicit.SimulationUnstable` from :meth:`ADRSolver.check`.
+
+One equilibrium solve (ADR-2...ADR-6 and the convergence test) is
+:class:`peridynamics.solvers.adr_relaxation.Relaxation`; its Numba loops are
+:mod:`peridynamics.kernels.adr`.
 """
 
 from __future__ import annotations
@@ -85,113 +89,17 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
-from numba import njit, prange
 from numpy.typing import NDArray
 
 from peridynamics.evaluation import Model
 from peridynamics.loading.conditions import Kinematic, PrescribedVelocity
+from peridynamics.solvers.adr_relaxation import Relaxation, fictitious_density, flat
 from peridynamics.solvers.base import StepResult
 from peridynamics.solvers.explicit import SimulationUnstable
 from peridynamics.state import State
 
 #: fictitious time step of ADR (s); Kilic & Madenci (2010) take dt = 1
 FICTITIOUS_TIME_STEP = 1.0
-#: upper clamp of c dt (Madenci & Oterkus: c = 1.9 when the estimate exceeds 2)
-MAX_DAMPING = 1.9
-#: fixed number of partial sums of the reductions: the same bits for any thread count
-_CHUNKS = 256
-
-_kernel = njit(parallel=True, fastmath=False, cache=True)
-
-
-@_kernel
-def adr_norms(u, v, force, force_prev, body, volume, inv_lambda, free, dt, out):
-    """Residual, reaction and damping sums of one ADR iteration (flat dof arrays).
-
-    Parameters
-    ----------
-    u, v : (m,) displacement (m) and fictitious velocity U'^{n-1/2} (m/s), m = n dim.
-    force, force_prev : (m,) internal force density F^n and F^{n-1} (N/m^3).
-    body : (m,) external force density (N/m^3).
-    volume : (m,) point volume of each dof (m^3).
-    inv_lambda : (m,) 1 / lambda_ii.
-    free : (m,) uint8, 1 for a free dof, 0 for a constrained one.
-    dt : float, fictitious time step.
-    out : (4,) output: sum over free dofs of (V (f + b))^2 (N^2), the same over
-        constrained dofs (the reactions), sum_free U_i^2 1K_ii U_i (ADR-4) and
-        sum_free U_i^2 (m^2).
-
-    Chunked partial sums in a fixed order give the same bits for any thread count.
-    """
-    m = u.shape[0]
-    chunks = min(m, _CHUNKS) if m > 0 else 1
-    part = np.zeros((chunks, 4))
-    for c in prange(chunks):
-        lo = c * m // chunks
-        hi = (c + 1) * m // chunks
-        r_free = 0.0
-        r_fixed = 0.0
-        ku = 0.0
-        uu = 0.0
-        for i in range(lo, hi):
-            r = volume[i] * (force[i] + body[i])
-            if free[i]:
-                r_free += r * r
-                ui = u[i]
-                uu += ui * ui
-                vi = v[i]
-                if vi != 0.0:
-                    k = -(force[i] - force_prev[i]) * inv_lambda[i] / (dt * vi)
-                    ku += ui * ui * k
-            else:
-                r_fixed += r * r
-        part[c, 0] = r_free
-        part[c, 1] = r_fixed
-        part[c, 2] = ku
-        part[c, 3] = uu
-    for q in range(4):
-        s = 0.0
-        for c in range(chunks):
-            s += part[c, q]
-        out[q] = s
-
-
-@_kernel
-def adr_update(u, v, force, body, inv_lambda, free, target, c, dt, first):
-    """The ADR velocity and displacement update (ADR-5, or ADR-6 when ``first``) in place.
-
-    Parameters
-    ----------
-    u, v : (m,) displacement U^n -> U^{n+1} (m), fictitious velocity U'^{n-1/2} ->
-        U'^{n+1/2} (m/s).
-    force, body : (m,) internal and external force density at U^n (N/m^3).
-    inv_lambda : (m,) 1 / lambda_ii.
-    free : (m,) uint8; constrained dofs are set to ``target`` (m) with U' = 0.
-    c : float, damping coefficient c^n (1/s); dt : float, fictitious time step (s).
-    first : bool, use U'^{1/2} = dt F^0 / (2 lambda).
-    """
-    m = u.shape[0]
-    keep = (2.0 - c * dt) / (2.0 + c * dt)
-    push = 2.0 * dt / (2.0 + c * dt)
-    for i in prange(m):
-        if free[i]:
-            a = (force[i] + body[i]) * inv_lambda[i]
-            if first:
-                vn = 0.5 * dt * a
-            else:
-                vn = keep * v[i] + push * a
-            v[i] = vn
-            u[i] += dt * vn
-        else:
-            v[i] = 0.0
-            u[i] = target[i]
-
-
-def _flat(a: NDArray[np.float64]) -> NDArray[np.float64]:
-    """A 1-D view of a C-contiguous (n, dim) array (writes go through)."""
-    if not a.flags.c_contiguous:
-        raise ValueError("ADR needs C-contiguous state arrays")
-    return a.reshape(-1)
 
 
 class ADRSolver:
@@ -292,25 +200,14 @@ class ADRSolver:
         self.last_good: State | None = None
 
         n, d = model.n_points, model.dim
-        bound = np.asarray(model.stiffness_bound(), dtype=np.float64)
-        lam = 0.25 * self.density_factor * self.dt**2 * bound
-        if not np.all(np.isfinite(lam)) or not np.any(lam > 0):
-            raise ValueError("the model's stiffness bound is not finite and positive")
-        lam = np.where(lam > 0, lam, lam.max())  # a point without stiffness never moves
-        self.lam = np.repeat(lam, d)
-        self._inv_lambda = 1.0 / self.lam
-        self._volume = np.repeat(np.asarray(model.cloud.volume, dtype=np.float64), d)
+        self.lam = fictitious_density(model, self.density_factor, self.dt)
         # constrained dofs: those any condition writes (probed on a NaN array)
         probe = np.full((n, d), np.nan)
         self._apply(probe, self.load_time)
         self.free = np.isnan(probe).reshape(-1).astype(np.uint8)
-        m = n * d
-        self._v = np.zeros(m)  # fictitious velocity U'^{n-1/2}
-        self._force_prev = np.zeros(m)
-        self._target = np.zeros(m)
-        self._sums = np.zeros(4)
-        self._load_norm = 0.0
-        self._warmed = False
+        self._relaxation = Relaxation(
+            model, self.lam, self.free, self.dt, self.tolerance, self.max_iterations
+        )
 
     # -- loads ---------------------------------------------------------------------
     def _apply(self, u: NDArray[np.float64], t: float) -> None:
@@ -336,7 +233,7 @@ class ADRSolver:
             np.multiply(s.body, lam, out=s.body)
         target = np.zeros_like(s.u)
         self._apply(target, t)
-        np.multiply(target.reshape(-1), lam, out=self._target)
+        np.multiply(target.reshape(-1), lam, out=self._relaxation.target)
 
     # -- life cycle ----------------------------------------------------------------
     def init(self) -> State:
@@ -346,10 +243,10 @@ class ADRSolver:
         self._add_history(s)
         self._set_loads(s, 0)
         fixed = self.free == 0
-        _flat(s.u)[fixed] = self._target[fixed]
+        flat(s.u)[fixed] = self._relaxation.target[fixed]
         s.u_prev[...] = s.u
         self.model.evaluate(s, commit=False)
-        self._warm_up()
+        self._relaxation.warm_up()
         self.last_good = s.copy()
         return s
 
@@ -369,7 +266,7 @@ class ADRSolver:
                     f"the checkpoint has no ADR history for {self.load_steps} load steps"
                 )
         self.model.on_restore(state)
-        self._warm_up()
+        self._relaxation.warm_up()
         self.last_good = state.copy()
 
     def done(self, state: State) -> bool:
@@ -384,70 +281,10 @@ class ADRSolver:
         """N, the number of load steps."""
         return self.load_steps
 
-    def _warm_up(self) -> None:
-        """Compile (or load from the cache) the kernels on tiny arrays."""
-        if self._warmed:
-            return
-        z = np.zeros(2)
-        one = np.ones(2)
-        adr_norms(z, z, z, z, z, one, one, np.ones(2, np.uint8), 1.0, np.zeros(4))
-        adr_update(z.copy(), z.copy(), z, z, one, np.ones(2, np.uint8), z, 0.0, 1.0, True)
-        self._warmed = True
-
-    # -- one load step ---------------------------------------------------------------
     def relax(self, s: State, floor: float = 0.0) -> tuple[int, float, bool]:
-        """ADR from U' = 0 at ``s.u`` to equilibrium under the current loads.
-
-        Parameters
-        ----------
-        s : State
-        floor : float
-            Smallest load norm (N) the residual is measured against (the largest load
-            norm of the earlier load steps).
-
-        Returns
-        -------
-        iterations : int
-            Force evaluations after the start (0 when already in equilibrium).
-        residual : float
-            Final relative residual (NaN when the solution became non-finite).
-        converged : bool
-        """
-        m, dt = self.model, self.dt
-        u, f, b = _flat(s.u), _flat(s.force), _flat(s.body)
-        v, fprev, sums = self._v, self._force_prev, self._sums
-        free, inv_lam, vol, target = self.free, self._inv_lambda, self._volume, self._target
-        fixed = free == 0
-        u[fixed] = target[fixed]
-        v[:] = 0.0
-        m.evaluate(s, commit=False)
-        fprev[:] = f
-        comm = m.comm
-        k = len(u) if comm.n_owned is None else comm.n_owned * m.dim  # owned dofs
-        b_free = np.where(free[:k] == 1, vol[:k] * b[:k], 0.0)
-        load = math.sqrt(comm.sum(float(np.sum(b_free * b_free))))
-        floor = max(floor, np.finfo(np.float64).tiny)
-        it = 0
-        while True:
-            adr_norms(u[:k], v[:k], f[:k], fprev[:k], b[:k], vol[:k], inv_lam[:k], free[:k],
-                      dt, sums)  # fmt: skip
-            if comm.size > 1:  # sums over every rank's owned dofs
-                sums[:] = comm.sum_array(sums)
-            self._load_norm = max(load, math.sqrt(sums[1]))
-            residual = math.sqrt(sums[0]) / max(self._load_norm, floor)
-            if residual <= self.tolerance:
-                return it, residual, True
-            if not math.isfinite(residual):
-                return it, float("nan"), False
-            if it >= self.max_iterations:
-                return it, residual, False
-            c = 0.0
-            if it > 0 and sums[3] > 0.0 and sums[2] > 0.0:
-                c = min(2.0 * math.sqrt(sums[2] / sums[3]), MAX_DAMPING / dt)
-            fprev[:] = f
-            adr_update(u, v, f, b, inv_lam, free, target, c, dt, it == 0)
-            m.evaluate(s, commit=False)
-            it += 1
+        """ADR from U' = 0 at ``s.u`` to equilibrium under the current loads
+        (:meth:`peridynamics.solvers.adr_relaxation.Relaxation.relax`)."""
+        return self._relaxation.relax(s, floor)
 
     def step(self, s: State) -> StepResult:
         """Take load step k = ``s.step + 1``: equilibrium by ADR, then damage rounds.
@@ -459,9 +296,9 @@ class ADRSolver:
         if k > self.load_steps:
             raise ValueError(f"all {self.load_steps} load steps are done")
         self._set_loads(s, k)
-        u = _flat(s.u)
+        u = flat(s.u)
         if self.extrapolate and k > 1:
-            guess = 2.0 * u - _flat(s.u_prev)
+            guess = 2.0 * u - flat(s.u_prev)
             s.u_prev[...] = s.u
             np.copyto(u, guess, where=self.free == 1)
         else:
@@ -469,7 +306,9 @@ class ADRSolver:
         hist = s["adr_load_norm"]
         floor = float(hist[: k - 1].max()) if k > 1 else 0.0
         iterations, residual, converged = self.relax(s, floor)
-        floor = max(floor, self._load_norm)  # re-solves after damage: against this load too
+        floor = max(
+            floor, self._relaxation.load_norm
+        )  # re-solves after damage: against this load too
         broken = 0
         events: list[str] = []
         if converged:
@@ -495,7 +334,7 @@ class ADRSolver:
         s["adr_iterations"][k - 1] = iterations
         s["adr_residual"][k - 1] = residual
         s["adr_converged"][k - 1] = converged
-        hist[k - 1] = max(floor, self._load_norm)
+        hist[k - 1] = max(floor, self._relaxation.load_norm)
         self.check(s)
         return StepResult(
             accepted=True,

@@ -1,155 +1,473 @@
-"""Small-strain linear static solution of any force model.
+"""Implicit static solver: Newton iterations on the unbalanced force, load stepping
+with cut-back, and bond breaking between solves (sequentially linear for linear
+models).
 
-``K u = V (b + f(0))`` with ``K = -d(V f)/du`` the tangent at the reference state
-(N/m), ``V b`` the external force per point (N) and Dirichlet conditions on chosen
-degrees of freedom; the tangent is the model's analytic one when it has one, else the
-finite-difference tangent of :mod:`peridynamics.families.tangent`.
+Equations (Zhou, Zhu & Li (n.d.), eqs 13-20). The total potential energy
+``E(q) = sum_i W_i V_i - sum_i b_i . q_i V_i`` of the degrees of freedom q (the
+displacement, and the rotation of a micropolar model) is stationary at equilibrium:
+the unbalanced force ``P = V (f_int(q) + b)`` vanishes at the free dofs. Newton's method
+solves ``K dq = P`` with the tangent ``K = d^2 E / dq^2`` of the force model
+(:meth:`peridynamics.families.base.ForceModel.tangent`; the coloured finite-difference
+tangent for a model without one), assembled bond-wise with no Python loop over bonds
+(:mod:`peridynamics.families.assembly`). Prescribed displacements are imposed by
+elimination: their dofs take the prescribed value and leave the system, whose free
+block is solved by a direct or an iterative solver (:mod:`peridynamics.solvers.linear`,
+chosen by size unless ``linear_solver`` says otherwise).
+
+Load stepping: load level lambda in (0, 1]; body forces and prescribed displacements
+are their value at the pseudo-time ``t = lambda * load_time``, times lambda when
+``proportional`` (load control: forces; displacement control: prescribed
+displacements). The levels are k / N (``load_steps`` = N). A level whose Newton
+iterations do not converge within ``max_iterations`` is cut back (the increment
+halved, up to ``max_cutbacks`` times); a level that still fails ends the run
+(``not_converged``).
+
+Bond breaking between solves (:mod:`peridynamics.solvers.breaking`): after every
+converged solve the intact bonds whose axial stretch reached the critical stretch are
+found; scheme C breaks the N_b most stretched of them, and the next step solves again
+at the same load. The load is raised only after a solve that breaks nothing. For a
+linear model (micropolar) under proportional loading the solution scales with lambda,
+so the next level is the smaller of the next k / N and the level lambda_c at which the
+next bond reaches its critical stretch (``event_driven``): the load-displacement curve
+then has every peak of its saw-tooth exactly.
+
+Re-use after bonds break (``reuse_factorization``, linear models): the stiffness loses
+the pair matrices of the broken bonds; the direct solver corrects the old
+factorisation by the Woodbury identity and refactors only when the correction grows
+past its memory budget; the iterative solver keeps the multigrid hierarchy of the old
+matrix as preconditioner. Without re-use every event refactors. Points left without
+any intact bond are pinned at their displacement (they carry no stiffness); a body
+that falls apart (a singular system) ends the run with the event ``failed``.
+
+One :meth:`StaticSolver.step` is one equilibrium solve (a new load level, or the same
+level after bonds broke): histories record every solve, which is the
+load-displacement curve with its events.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+import math
+import time
+from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
-import scipy.sparse as sp
-import scipy.sparse.linalg as spla
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
-from peridynamics.families.tangent import finite_difference_tangent
+from peridynamics.damage.critical_stretch import CriticalStretchLaw
+from peridynamics.evaluation import Model
+from peridynamics.loading.conditions import Fixed, Kinematic
+from peridynamics.loading.time_functions import Constant
+from peridynamics.solvers import linear as lin
+from peridynamics.solvers.base import StepResult
+from peridynamics.solvers.breaking import PairBreaker
+from peridynamics.solvers.explicit import SimulationUnstable
+from peridynamics.solvers.static_checks import check_arguments, check_damage
+from peridynamics.solvers.tangent_system import TangentSystem
 from peridynamics.state import State
 
-if TYPE_CHECKING:
-    from peridynamics.families.base import ForceModel
+_EVENT_MARGIN = 1e-9  # lambda_c is raised by this relative margin so the bond breaks
 
 
-def reference_state(model: ForceModel) -> State:
-    """A State at the reference configuration: zero u, v, force, body; ``intact`` from
-    the bond list (pre-cracks broken); zero ``max_stretch`` and every field the model
-    declares (:meth:`~peridynamics.families.base.ForceModel.state_fields`)."""
-    n, d = model.n_points, model.dim
-    fields: dict[str, NDArray] = {
-        "u": np.zeros((n, d)),
-        "v": np.zeros((n, d)),
-        "force": np.zeros((n, d)),
-        "body": np.zeros((n, d)),
-        "intact": np.array(model.bonds.bond_intact, dtype=np.uint8, copy=True),
-        "max_stretch": np.zeros(n),
-    }
-    for spec in model.state_fields():
-        rows = {"point": n, "bond": model.bonds.n_bonds}.get(spec.where, spec.rows)
-        shape = (rows,) if spec.components == 0 else (rows, spec.components)
-        fields[spec.name] = np.zeros(shape, dtype=spec.dtype)
-    state = State()
-    for name, array in fields.items():
-        state[name] = array
-    return state
-
-
-def solve_linear_static(
-    model: ForceModel,
-    fixed_dofs: ArrayLike,
-    fixed_values: ArrayLike,
-    external_force: ArrayLike,
-    tangent: sp.spmatrix | None = None,
-    method: str = "direct",
-    rtol: float = 1e-10,
-) -> NDArray[np.float64]:
-    """Displacement (n, dim) (m) of the small-strain linear static problem.
+class StaticSolver:
+    """Newton static solver with load stepping and bond breaking (module docstring).
 
     Parameters
     ----------
-    model : ForceModel
-        Any force model (its tangent at u = 0, or the finite-difference one).
-    fixed_dofs : (n_fixed,) int
-        Flat dof indices ``i * dim + c`` with a prescribed displacement.
-    fixed_values : (n_fixed,) float or scalar
-        Their displacements (m).
-    external_force : (n, dim) float
-        External body force density b (N/m^3); the load on a point is ``V_i b_i``.
-    tangent : sparse (n dim, n dim), optional
-        K = -d(V f)/du (N/m) to use instead of the model's.
-    method : {"direct", "cg"}
-        Sparse LU (SuperLU) of the free block, or conjugate gradients with a Jacobi
-        preconditioner (the free block is symmetric positive definite for a stable
-        model with rigid motion prevented). CG is much faster for 3-D state-based
-        models, whose two-horizon coupling makes the LU fill-in large.
-    rtol : float
-        Relative residual of CG.
-
-    Returns
-    -------
-    ndarray, shape (n, dim)
-        u with ``u.flat[fixed_dofs] == fixed_values``.
-
-    Raises
-    ------
-    ValueError
-        Bad shapes or indices, or a singular system (rigid-body motion not prevented
-        by the fixed dofs).
+    model : Model
+    constraints : sequence of PrescribedDisplacement or Fixed
+        Eliminated dofs. A :class:`~peridynamics.loading.conditions.Fixed` without
+        components (or with ``"rotation"``) also fixes a micropolar rotation.
+    load_steps : int
+        N >= 1: load levels k / N.
+    tolerance : float
+        Relative residual ||P_free|| / max(||V b_free||, ||reactions||, earlier peak).
+    max_iterations : int
+        Newton iterations per solve.
+    max_cutbacks : int
+        Halvings of a load increment that did not converge.
+    proportional : bool
+        Multiply loads and prescribed displacements by lambda.
+    load_time : float
+        Pseudo-time of lambda = 1 (s of the time functions' clock).
+    linear_solver : {"auto", "direct", "iterative"}
+    breaking : {"A", "B", "C"}
+        Bond-breaking scheme (:mod:`peridynamics.solvers.breaking`).
+    bonds_per_event : int
+        N_b of scheme C.
+    event_driven : bool
+        Raise the load to the next breaking event (linear models, proportional loads).
+    reuse_factorization : bool
+        Keep the factorisation (or preconditioner) across bond-breaking events.
+    max_solves : int
+        Safety limit on the number of solves (steps).
     """
-    n, d = model.n_points, model.dim
-    size = n * d
-    fixed = np.asarray(fixed_dofs, dtype=np.intp).reshape(-1)
-    values = np.broadcast_to(np.asarray(fixed_values, dtype=np.float64), fixed.shape)
-    if fixed.size and (fixed.min() < 0 or fixed.max() >= size):
-        raise ValueError(f"fixed_dofs must lie in 0..{size - 1} (i * dim + c)")
-    if len(np.unique(fixed)) != fixed.size:
-        raise ValueError("fixed_dofs has repeated entries")
-    b = np.asarray(external_force, dtype=np.float64)
-    if b.shape != (n, d):
-        raise ValueError(f"external_force must have shape ({n}, {d}), got {b.shape}")
-    state = reference_state(model)
-    model.prepass(state)
-    model.force(state)
-    rhs = (model.cloud.volume[:, None] * (b + state.force)).reshape(-1)
-    if tangent is None:
-        tangent = model.tangent(state)
-    if tangent is None:
-        tangent = finite_difference_tangent(model, state)
-    k = sp.csr_matrix(tangent)
-    if k.shape != (size, size):
-        raise ValueError(f"tangent must have shape ({size}, {size}), got {k.shape}")
-    free_mask = np.ones(size, dtype=bool)
-    free_mask[fixed] = False
-    free = np.flatnonzero(free_mask)
-    u = np.zeros(size)
-    u[fixed] = values
-    k_free = k[free]
-    rhs_free = rhs[free] - k_free[:, fixed] @ u[fixed]
-    if method == "direct":
-        k_ff = sp.csc_matrix(k_free[:, free])
+
+    def __init__(
+        self,
+        model: Model,
+        constraints: Sequence[Kinematic] = (),
+        load_steps: int = 10,
+        tolerance: float = 1e-8,
+        max_iterations: int = 20,
+        max_cutbacks: int = 6,
+        proportional: bool = True,
+        load_time: float = 1.0,
+        linear_solver: str = "auto",
+        breaking: str = "C",
+        bonds_per_event: int = 4,
+        event_driven: bool = True,
+        reuse_factorization: bool = True,
+        max_solves: int = 1_000_000,
+    ) -> None:
+        check_arguments(
+            constraints, load_steps, tolerance, max_iterations, max_cutbacks, load_time,
+            linear_solver, max_solves,
+        )  # fmt: skip
+        self.model = model
+        self.constraints = tuple(constraints)
+        self.load_steps = int(load_steps)
+        self.tolerance = float(tolerance)
+        self.max_iterations = int(max_iterations)
+        self.max_cutbacks = int(max_cutbacks)
+        self.proportional = bool(proportional)
+        self.load_time = float(load_time)
+        self.linear_solver = linear_solver
+        self.event_driven = bool(event_driven)
+        self.reuse = bool(reuse_factorization)
+        self.max_solves = int(max_solves)
+        self.last_good: State | None = None
+
+        fm = model.force_model
+        self.groups = fm.dofs()
+        self.width = sum(g.components for g in self.groups)
+        self.fixed = self._fixed_dofs()
+        self._volume = np.repeat(np.asarray(model.cloud.volume, dtype=np.float64), self.width)
+        law = model.damage_law
+        check_damage(model)
+        self.breaker: PairBreaker | None = None
+        if isinstance(law, CriticalStretchLaw) and law.active:
+            self.breaker = PairBreaker(model.bonds, law.point_s0, breaking, bonds_per_event)
+        self.scheme = breaking
+        self.linear_model = bool(getattr(fm, "linear", False))
+        functions = [getattr(c, "function", Constant()) for c in self.constraints]
+        functions += [getattr(b, "function", Constant()) for b in model.body_forces]
+        self.scalable = (
+            self.linear_model
+            and self.proportional
+            and all(isinstance(f, Constant) for f in functions)
+            and model.contact is None
+        )
+        # solver state (rebuilt on resume)
+        self.lam = 0.0
+        self._pending = False
+        self._failed: str | None = None
+        self._peak_ref = 0.0
+        self._stretch: NDArray[np.float64] | None = None
+        self._first_break: tuple[list[float], float] | None = None
+        self.stats: dict[str, float] = {
+            "solves": 0,
+            "newton_iterations": 0,
+            "cutbacks": 0,
+            "factorizations": 0,
+            "factorization_s": 0.0,
+            "events": 0,
+            "event_s": 0.0,
+            "update_column_solves": 0,
+            "linear_solve_s": 0.0,
+            "pinned_points": 0,
+        }
+        self.system = TangentSystem(
+            model, self.width, self.fixed, linear_solver, self.tolerance, self.reuse, self.stats
+        )
+
+    def _fixed_dofs(self) -> NDArray[np.bool_]:
+        """Mask (n width,) of the dofs a condition prescribes: the displacements any
+        condition writes (probed on a NaN array), the rotations of a ``Fixed`` with
+        ``rotation``."""
+        n, d = self.model.n_points, self.model.dim
+        probe = np.full((n, d), np.nan)
+        self._apply(probe, self.load_time)
+        fixed = np.zeros((n, self.width), dtype=bool)
+        fixed[:, :d] = ~np.isnan(probe)
+        if self.width > d:
+            for c in self.constraints:
+                if isinstance(c, Fixed) and c.rotation:
+                    fixed[c.nodes, d:] = True
+        return fixed.reshape(-1)
+
+    # -- loads and dofs -------------------------------------------------------------------
+    def _apply(self, u: NDArray[np.float64], t: float) -> None:
+        scratch = np.zeros_like(u)
+        dt = self.load_time / self.load_steps
+        for c in self.constraints:
+            c.apply(u, scratch, t, dt)
+
+    def _gather(self, s: State) -> NDArray[np.float64]:
+        return np.concatenate([s[g.value] for g in self.groups], axis=1)
+
+    def _scatter(self, q: NDArray[np.float64], s: State) -> None:
+        col = 0
+        for g in self.groups:
+            s[g.value][...] = q[:, col : col + g.components]
+            col += g.components
+
+    def _unbalanced(self, s: State) -> NDArray[np.float64]:
+        """P = V (f + b) over all dofs, flat (n width,)."""
+        f = np.concatenate([s[g.force] + s[g.body] for g in self.groups], axis=1)
+        return self._volume * f.reshape(-1)
+
+    def _set_loads(self, s: State, lam: float) -> NDArray[np.float64]:
+        """Body forces at level lam; returns the flat prescribed values (n width,)."""
+        t = lam * self.load_time
+        scale = lam if self.proportional else 1.0
+        self.model.external_force(t, s.body)
+        if scale != 1.0:
+            s.body *= scale
+        target = np.zeros_like(s.u)
+        self._apply(target, t)
+        q = np.zeros((self.model.n_points, self.width))
+        q[:, : self.model.dim] = scale * target
+        return q.reshape(-1)
+
+    # -- life cycle -------------------------------------------------------------------------
+    def init(self) -> State:
+        """State at lambda = 0 (u = 0), with the load level stored in the State."""
+        s = self.model.new_state()
+        s["static_load_factor"] = np.zeros(1)
+        self.model.evaluate(s, commit=False)
+        self.last_good = s.copy()
+        return s
+
+    def resume(self, state: State) -> None:
+        """Continue from a State read from a checkpoint: the load level is read back,
+        the factorisation rebuilt from the bond status, pending breaks re-detected."""
+        if "static_load_factor" not in state:
+            raise ValueError("the checkpoint has no static load level (not a static run)")
+        self.model.on_restore(state)
+        self.lam = float(state["static_load_factor"][0])
+        self.system.invalidate()
+        self._set_loads(state, self.lam)
+        self.model.evaluate(state, commit=False)
+        self._pending = self._violations(state)
+        self.last_good = state.copy()
+
+    def done(self, state: State) -> bool:
+        """Final load reached with nothing left to break, a failure, or max_solves."""
+        if self._failed is not None or state.step >= self.max_solves:
+            return True
+        return self.lam >= 1.0 - 1e-12 and not self._pending
+
+    def total_steps(self) -> int:
+        """N (a lower bound: events add solves)."""
+        return self.load_steps
+
+    # -- one solve ---------------------------------------------------------------------------
+    def _equilibrium(self, s: State, lam: float) -> tuple[bool, int, float]:
+        """Newton iterations at level lam from the current state."""
+        target = self._set_loads(s, lam)
+        q = self._gather(s).reshape(-1)
+        q[self.fixed] = target[self.fixed]
+        self._scatter(q.reshape(-1, self.width), s)
+        self.model.evaluate(s, commit=False)
+        body = np.concatenate([s[g.body] for g in self.groups], axis=1).reshape(-1)
+        load = float(np.linalg.norm((self._volume * body)[~self.fixed]))
+        it = 0
+        while True:
+            p = self._unbalanced(s)
+            free = self.system.free if len(self.system.free) else np.flatnonzero(~self.fixed)
+            ref = max(load, float(np.linalg.norm(p[self.fixed])), self._peak_ref, 1e-300)
+            residual = float(np.linalg.norm(p[free])) / ref
+            if not math.isfinite(residual):
+                return False, it, float("nan")
+            if residual <= self.tolerance:
+                self._peak_ref = max(self._peak_ref, ref)
+                return True, it, residual
+            if it >= self.max_iterations:
+                return False, it, residual
+            dq = self.system.solve(s, p, 0.1 * self.tolerance * ref)
+            q = self._gather(s).reshape(-1)
+            q[self.system.free] += dq
+            self._scatter(q.reshape(-1, self.width), s)
+            self.model.evaluate(s, commit=False)
+            it += 1
+
+    def _violations(self, s: State) -> bool:
+        """Compute (and keep) the bond stretch of the equilibrium ``s``; True when a bond
+        reached its critical stretch."""
+        if self.breaker is None:
+            return False
+        self._stretch = self.model.force_model.bond_stretch(s)
+        return bool(len(self.breaker.select(self._stretch, s.intact)))
+
+    def _next_level(self, s: State) -> float:
+        """The next load level: k / N, or the next breaking event when scalable."""
+        k = math.floor(self.lam * self.load_steps + 1e-9) + 1
+        level = min(k / self.load_steps, 1.0)
+        if self.scalable and self.event_driven and self.breaker is not None and self.lam > 0:
+            if self._stretch is None:
+                self._stretch = self.model.force_model.bond_stretch(s)
+            factor = self.breaker.critical_factor(self._stretch, s.intact)
+            event = self.lam * factor * (1.0 + _EVENT_MARGIN)
+            if event < level:
+                level = event
+        return level
+
+    def _break_pending(self, s: State, breaker: PairBreaker) -> int:
+        """Break the bonds the last solve left at or over their critical stretch (the
+        breaker's scheme) and update the factorisation; returns the directed bonds
+        broken."""
+        if self._stretch is None:
+            self._stretch = self.model.force_model.bond_stretch(s)
+        pairs = breaker.select(self._stretch, s.intact)
+        self._stretch = None
+        both = breaker.both_directions(pairs)
+        if self._first_break is None and len(pairs):
+            b = self.model.bonds
+            x = self.model.cloud.x
+            mid = 0.5 * (x[b.bond_i[pairs]] + x[b.bond_j[pairs]])
+            self._first_break = (mid.mean(axis=0).tolist(), self.lam)
+        s.intact[both] = 0
+        broken = len(both)
+        s.bonds_broken += broken
+        self.system.remove_pairs(s, pairs)
+        self.stats["events"] += 1
+        return broken
+
+    def step(self, s: State) -> StepResult:
+        """One equilibrium solve: break bonds first when the last solve left violations
+        (same load), else raise the load to the next level."""
+        t0 = time.perf_counter()
+        events: list[str] = []
+        broken = 0
+        if self._pending and self.breaker is not None:
+            broken = self._break_pending(s, self.breaker)
+            events.append("bonds_broken")
+            target = self.lam
+        else:
+            target = self._next_level(s)
+        saved = self._gather(s).copy()
+        lam0 = self.lam
+        cut = 0
         try:
-            sol = spla.splu(k_ff).solve(rhs_free)
-        except RuntimeError as exc:
-            raise ValueError(
-                f"the static system is singular ({exc}); fix enough dofs to prevent "
-                "rigid-body motion"
-            ) from None
-    elif method == "cg":
-        k_ff = sp.csr_matrix(k_free[:, free])
-        diag = k_ff.diagonal()
-        if not np.all(diag > 0):
-            raise ValueError(
-                "the tangent has a non-positive diagonal entry: CG needs an SPD system"
+            while True:
+                if self.scalable and lam0 > 0 and not broken:  # the solution scales with lam
+                    q = saved * (target / lam0)
+                    self._scatter(q, s)
+                converged, iterations, residual = self._equilibrium(s, target)
+                self.stats["newton_iterations"] += iterations
+                if converged or broken or cut >= self.max_cutbacks:
+                    break
+                cut += 1
+                self.stats["cutbacks"] += 1
+                events.append("cut_back")
+                target = lam0 + 0.5 * (target - lam0)
+                self._scatter(saved, s)
+        except lin.SingularSystem as exc:
+            self._failed = str(exc)
+            self._scatter(saved, s)
+            self._set_loads(s, lam0)
+            self.model.evaluate(s, commit=False)
+            converged, iterations, residual = False, 0, float("nan")
+            events.append("failed")
+        self.stats["solves"] += 1
+        if not converged and "failed" not in events:  # back to the last equilibrium
+            self._scatter(saved, s)
+            self._set_loads(s, lam0)
+            self.model.evaluate(s, commit=False)
+        if converged:
+            self.lam = target
+            self._pending = self._violations(s)
+        elif self._failed is None:
+            self._failed = (
+                f"Newton did not converge at load level {target:.6g} after {cut} cut-backs "
+                f"(residual {residual:.3g}); use more load_steps, more max_iterations or a "
+                "looser tolerance"
             )
-        sol, info = spla.cg(
-            k_ff, rhs_free, rtol=rtol, maxiter=20 * max(len(free), 1), M=sp.diags(1.0 / diag)
+            events.append("not_converged")
+        if broken:
+            self.stats["event_s"] += time.perf_counter() - t0
+        s["static_load_factor"][0] = self.lam
+        s.step += 1
+        s.t = self.lam * self.load_time
+        s.v[...] = 0.0
+        self.check(s)
+        return StepResult(
+            accepted=True,
+            converged=converged,
+            residual=residual,
+            broken=broken,
+            iterations=iterations,
+            events=tuple(events),
         )
-        if info != 0:
-            raise ValueError(
-                f"CG did not converge (info {info}): the system may be singular (fix enough "
-                "dofs to prevent rigid-body motion); try method='direct'"
+
+    # -- checks and summary -------------------------------------------------------------------
+    def check(self, s: State) -> None:
+        """Raise :class:`SimulationUnstable` on a non-finite solution; else keep the state
+        as the last good one."""
+        q = self._gather(s)
+        bad = ~np.isfinite(q).all(axis=1)
+        if bad.any():
+            k = int(np.argmax(bad))
+            coords = self.model.cloud.x[k].tolist()
+            raise SimulationUnstable(
+                f"the static solution is not finite at point {k} ({coords}) after solve "
+                f"{s.step}: check the constraints (rigid-body motion must be prevented)",
+                step=s.step,
+                time=s.t,
+                point=k,
+                coordinates=coords,
+                last_good=self.last_good,
             )
-    else:
-        raise ValueError(f"unknown method {method!r}; use 'direct' or 'cg'")
-    scale = max(float(np.abs(rhs_free).max(initial=0.0)), 1e-300)
-    residual = float(np.abs(k_ff @ sol - rhs_free).max(initial=0.0))
-    tol = 1e-6 if method == "direct" else max(1e-6, 10.0 * rtol * np.sqrt(len(free)))
-    if not np.all(np.isfinite(sol)) or residual > tol * scale:
-        raise ValueError(
-            "the static system is singular or ill-conditioned (residual "
-            f"{residual:.3g} vs load {scale:.3g}); fix enough dofs to prevent rigid-body "
-            "motion"
+        self.last_good = s.snapshot(self.last_good)
+
+    def describe(self) -> str:
+        """Load steps, scheme, linear solver."""
+        return (
+            f"static (Newton), {self.load_steps} load step"
+            f"{'s' if self.load_steps != 1 else ''}, breaking scheme {self.scheme}, "
+            f"linear solver {self.linear_solver}"
         )
-    u[free] = sol
-    return u.reshape(n, d)
+
+    def summary_fields(self, state: State) -> dict[str, Any]:
+        """Solver entries of ``summary.json``.
+
+        Keys: ``solver`` ("static"), ``load_steps``, ``load_factor`` (lambda reached),
+        ``solves``, ``newton_iterations``, ``cutbacks``, ``breaking_events``,
+        ``breaking_scheme``, ``linear_solver`` (the one used), ``factorizations``,
+        ``factorization_s``, ``update_column_solves``, ``time_per_event_s`` (wall time
+        per bond-breaking solve), ``reuse_factorization``, ``pinned_points``,
+        ``converged`` (the run reached lambda = 1), ``message``, ``time_step_s`` (None).
+        """
+        st = self.stats
+        events = int(st["events"])
+        if self._failed is not None:
+            message = self._failed
+        elif self.lam >= 1.0 - 1e-12:
+            message = "final load reached"
+        else:
+            message = f"load level {self.lam:.6g} of 1 reached"
+        return {
+            "solver": "static",
+            "load_steps": self.load_steps,
+            "load_factor": self.lam,
+            "solves": int(st["solves"]),
+            "newton_iterations": int(st["newton_iterations"]),
+            "cutbacks": int(st["cutbacks"]),
+            "breaking_events": events,
+            "breaking_scheme": self.scheme,
+            "linear_solver": self.system.method_used or self.linear_solver,
+            "factorizations": int(st["factorizations"]),
+            "factorization_s": float(st["factorization_s"]),
+            "update_column_solves": int(st["update_column_solves"]),
+            "time_per_event_s": float(st["event_s"] / events) if events else None,
+            "reuse_factorization": self.reuse,
+            "pinned_points": int(st["pinned_points"]),
+            "first_break_m": None if self._first_break is None else self._first_break[0],
+            "first_break_load_factor": (
+                None if self._first_break is None else self._first_break[1]
+            ),
+            "converged": self._failed is None and self.lam >= 1.0 - 1e-12,
+            "message": message,
+            "time_step_s": None,
+        }

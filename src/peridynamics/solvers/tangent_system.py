@@ -1,6 +1,6 @@
 """The free-free tangent of a static solve and its linear solver, kept across Newton
 iterations and bond-breaking events (:class:`TangentSystem`; the solver itself is
-:class:`peridynamics.solvers.newton.StaticSolver`).
+:class:`peridynamics.solvers.static.StaticSolver`).
 
 The tangent of the model is assembled at a state, dofs without stiffness are pinned
 (a point whose bonds all broke, a micropolar rotation with k_t = k_phi = 0), the

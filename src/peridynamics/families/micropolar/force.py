@@ -36,12 +36,12 @@ from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.bonds.surface import bond_factors_from_point_ratios
+from peridynamics.communicator import active_comm
 from peridynamics.families.assembly import block_csr, family_sum
 from peridynamics.families.base import Dof, ForceModel
 from peridynamics.families.micropolar.springs import SpringConstants
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import micropolar as kern
-from peridynamics.communicator import active_comm
 
 if TYPE_CHECKING:
     from peridynamics.state import State

@@ -15,12 +15,12 @@ from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.bonds.surface import energy_correction_factors, moment_correction_factors
+from peridynamics.communicator import active_comm
 from peridynamics.families.base import DamageLaw, ForceModel, FusedStep
 from peridynamics.families.calibration import calibrate_influence
 from peridynamics.families.pmb.tangent import pmb_tangent
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import bond_based
-from peridynamics.communicator import active_comm
 
 if TYPE_CHECKING:
     from peridynamics.state import State

@@ -10,8 +10,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from peridynamics.analysis.crack_length import (
-    CrackMeter,
+from peridynamics.analysis.crack_length import CrackMeter
+from peridynamics.analysis.crack_orientation import (
     family_first_moment,
     orientation_table,
     pick_interior,

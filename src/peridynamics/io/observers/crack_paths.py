@@ -9,9 +9,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from peridynamics.analysis.crack import branching, tip_speed
-from peridynamics.io.options import CrackPathSpec, CrackTip
 from peridynamics.io.observers.base import Observer, RunContext, RunOptions
 from peridynamics.io.observers.crack_threshold import crack_tip_region, warn_threshold
+from peridynamics.io.options import CrackPathSpec, CrackTip
 from peridynamics.solvers.base import StepResult
 from peridynamics.state import State
 
@@ -134,7 +134,7 @@ class CrackPaths(Observer):
             r["crack_path_length_m"][name].append(float(p.length))
 
     def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
-        from peridynamics.analysis.crack_path import rayleigh_speed, tip_speed_from_paths
+        from peridynamics.analysis.crack_speed import rayleigh_speed, tip_speed_from_paths
         from peridynamics.families.pmb.material import fixed_poisson_ratio
 
         m, r = self.model, ctx.records

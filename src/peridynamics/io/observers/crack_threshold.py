@@ -10,9 +10,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from peridynamics.io.options import CrackTip
 from peridynamics.io.observers.base import RunContext
 from peridynamics.io.observers.crack_bonds import broken_pairs
+from peridynamics.io.options import CrackTip
 from peridynamics.state import State
 
 if TYPE_CHECKING:

@@ -8,7 +8,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from peridynamics.analysis.crack_length import CrackMeter, attribute_to_polylines
+from peridynamics.analysis.crack_attribution import attribute_to_polylines
+from peridynamics.analysis.crack_length import CrackMeter
 from peridynamics.io.observers.base import Observer, RunContext, RunOptions
 from peridynamics.io.observers.crack_bonds import (
     all_intact,

@@ -8,8 +8,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from peridynamics.io.options import Fracture as FractureOptions
 from peridynamics.io.observers.base import Observer, RunContext
+from peridynamics.io.options import Fracture as FractureOptions
 from peridynamics.solvers.base import StepResult
 from peridynamics.state import State
 

@@ -24,8 +24,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from peridynamics.io.options import Output, load_source
 from peridynamics.io.observers.base import Observer, RunContext, RunOptions
+from peridynamics.io.options import Output, load_source
 from peridynamics.io.vtk import write_pvd, write_vtu
 from peridynamics.solvers.base import StepResult
 from peridynamics.state import State

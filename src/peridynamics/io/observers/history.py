@@ -10,8 +10,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.analysis.crack import crack_tip
-from peridynamics.io.options import Probe
 from peridynamics.io.observers.base import COMP, Observer, RunContext, RunOptions
+from peridynamics.io.options import Probe
 from peridynamics.solvers.base import StepResult
 from peridynamics.state import State
 

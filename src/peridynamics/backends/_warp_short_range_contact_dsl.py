@@ -1,11 +1,11 @@
 # mypy: ignore-errors
-"""Warp kernels of :mod:`peridynamics.backends.warp_contact`: the short-range contact of
-:class:`~peridynamics.evaluation.short_range_contact.ShortRangeContact` on the device
-(Verlet-list rebuild test,
+"""Warp kernels of :mod:`peridynamics.backends.warp_short_range_contact`: the short-range
+contact of :class:`~peridynamics.evaluation.short_range_contact.ShortRangeContact` on the device (Verlet-list rebuild test,
 candidate search on a float64 :class:`warp.HashGrid`, frictionless and Coulomb force
 passes). Every kernel runs one thread per point and writes only that point's entries
 (no atomics); the arithmetic and the order of each sum are those of the Numba kernels
-of :mod:`peridynamics.kernels.contact` and :mod:`peridynamics.kernels.contact_friction`.
+of :mod:`peridynamics.kernels.short_range_contact` and
+:mod:`peridynamics.kernels.short_range_friction`.
 """
 
 from __future__ import annotations
@@ -283,7 +283,7 @@ if wp is not None:
     ) -> None:
         """ADD the contact force density with Coulomb friction to ``force[i]`` and write
         i's share of the friction power ``power[i]`` (W): the arithmetic of
-        :func:`peridynamics.kernels.contact_friction.add_contact_force_friction`."""
+        :func:`peridynamics.kernels.short_range_friction.add_contact_force_friction`."""
         i = wp.tid()
         dim = x.shape[1]
         dc_sq = d_c * d_c

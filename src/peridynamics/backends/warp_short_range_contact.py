@@ -24,7 +24,7 @@ import numpy as np
 from peridynamics.backends.warp_device import DeviceModel, DeviceState
 
 try:
-    from peridynamics.backends._warp_contact_dsl import (
+    from peridynamics.backends._warp_short_range_contact_dsl import (
         contact_check,
         contact_count,
         contact_fill,

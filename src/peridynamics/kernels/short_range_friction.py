@@ -4,7 +4,7 @@ Used by
 :meth:`peridynamics.evaluation.short_range_contact.ShortRangeContact.add_force_with_friction`,
 which
 documents the model; the frictionless force pass
-(:func:`peridynamics.kernels.contact.add_contact_force`) is not touched, so a contact
+(:func:`peridynamics.kernels.short_range_contact.add_contact_force`) is not touched, so a contact
 without friction runs exactly the code it ran before.
 
 Pair (i, j) in contact (``r < d_c``, ``r > 0``, no intact bond), masses
@@ -30,7 +30,7 @@ import numpy as np
 from numba import njit, prange
 from numpy.typing import NDArray
 
-from peridynamics.kernels.contact import (
+from peridynamics.kernels.short_range_contact import (
     _dist_sq,
     _excluded,
     _reference_pairs,

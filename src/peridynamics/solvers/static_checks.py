@@ -1,0 +1,66 @@
+"""Argument and model checks of :class:`peridynamics.solvers.static.StaticSolver`: each
+raises ValueError with the deck key in brackets where there is one."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any
+
+from peridynamics.evaluation import Model
+from peridynamics.loading.conditions import Kinematic, PrescribedVelocity
+from peridynamics.solvers import linear as lin
+
+__all__ = ["check_arguments", "check_damage"]
+
+
+def _check_int(name: str, value: Any, low: int) -> None:
+    if int(value) != value or value < low:
+        raise ValueError(f"solver.{name} must be an integer >= {low}, got {value}")
+
+
+def check_arguments(
+    constraints: Sequence[Kinematic],
+    load_steps: int,
+    tolerance: float,
+    max_iterations: int,
+    max_cutbacks: int,
+    load_time: float,
+    linear_solver: str,
+    max_solves: int,
+) -> None:
+    """ValueError for an argument of :class:`StaticSolver` out of its range."""
+    _check_int("load_steps", load_steps, 1)
+    _check_int("max_iterations", max_iterations, 1)
+    _check_int("max_cutbacks", max_cutbacks, 0)
+    _check_int("max_solves", max_solves, 1)
+    if not 0.0 < tolerance < 1.0:
+        raise ValueError(f"solver.tolerance must be in (0, 1), got {tolerance}")
+    if not (load_time > 0 and math.isfinite(load_time)):
+        raise ValueError(f"solver.load_time must be a finite value > 0, got {load_time}")
+    lin.choose(linear_solver, 1)  # validates the name
+    for c in constraints:
+        if isinstance(c, PrescribedVelocity):
+            raise ValueError(
+                "a prescribed velocity has no meaning in a static run; prescribe the "
+                "displacement instead"
+            )
+
+
+def check_damage(model: Model) -> None:
+    """ValueError for a damage model the static solver cannot run."""
+    law = model.damage_law
+    if math.isfinite(getattr(law, "tensile_strength", math.inf)):
+        raise ValueError(
+            "[damage.tensile_strength] the principal-stress failure criterion breaks "
+            "bonds in explicit and adr runs only; the static solver breaks bonds by "
+            "critical stretch between solves: remove tensile_strength (with "
+            "damage.model: critical_stretch and fracture_energy or critical_stretch) "
+            "or use solver.type: adr"
+        )
+    if getattr(model, "softening", None) is not None:
+        raise ValueError(
+            "[damage.sed_softening] the static solver does not soften bonds (it breaks "
+            "them by critical stretch between solves): use solver.type: adr, or remove "
+            "sed_softening"
+        )
