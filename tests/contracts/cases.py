@@ -362,8 +362,8 @@ CASES: list[Case] = [
     Case("pmb_sed-2d", pmb_sed, twin_pmb_sed),
     Case("lps-2d", lambda: lps(2, "constant", True), twin_lps),
     Case("lps-3d", lambda: lps(3, "inverse", False), twin_lps),
-    Case("micropolar-stress", lambda: micropolar("stress"), twin_micropolar, 1e-6, rotate_theta),
-    Case("micropolar-strain", lambda: micropolar("strain"), twin_micropolar, 1e-6, rotate_theta),
+    Case("micropolar-stress", lambda: micropolar("stress"), twin_micropolar, 1e-7, rotate_theta),
+    Case("micropolar-strain", lambda: micropolar("strain"), twin_micropolar, 1e-7, rotate_theta),
     *(
         Case(f"correspondence-{stab}-{d}d", lambda d=d, s=stab: correspondence(d, s),
              twin_correspondence)  # fmt: skip
@@ -371,7 +371,7 @@ CASES: list[Case] = [
         for stab in ("none", "silling2017", "lbscmm")
     ),
     Case("correspondence-linear-2d", lambda: correspondence(2, "lbscmm", "linear_elastic"),
-         twin_correspondence, 1e-6),  # fmt: skip
+         twin_correspondence, 1e-7),  # fmt: skip
     Case("composite-pmb+lps+interface", composite),
     Case("toy_spring", toy, twin_toy),
 ]
