@@ -30,8 +30,14 @@ from peridynamics.damage.critical_stretch import CriticalStretch
 from peridynamics.damage.sed import SEDSoftening
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.geometry.generators import bar, box, rectangle
-from peridynamics.kernels import reference, reference_correspondence, reference_lps
-from peridynamics.kernels import reference_micropolar, reference_softening
+from peridynamics.kernels import correspondence as kernels_correspondence
+from peridynamics.kernels import (
+    reference,
+    reference_correspondence,
+    reference_lps,
+    reference_micropolar,
+    reference_softening,
+)
 from peridynamics.materials.bond_based import BondBasedMaterial
 from peridynamics.materials.correspondence import CorrespondenceMaterial
 from peridynamics.materials.lps import LPSMaterial
@@ -128,7 +134,9 @@ def block(n: tuple[int, int, int] = (5, 5, 4), seed: int | None = 2) -> PointClo
     return cloud if seed is None else jittered(cloud, seed)
 
 
-def deform(model: ForceModel, st: State, seed: int, amp: float = 0.02, broken: float = 0.1) -> State:
+def deform(
+    model: ForceModel, st: State, seed: int, amp: float = 0.02, broken: float = 0.1
+) -> State:
     """Random displacement (``amp`` spacings) and a share ``broken`` of bond pairs cut."""
     rng = np.random.default_rng(seed)
     st.u[...] = rng.normal(0.0, amp * model.cloud.spacing, st.u.shape)
@@ -161,6 +169,7 @@ def pmb(dim: int, profile: str = "conical") -> Built:
         BondBasedMaterial(70e9, 2700.0, profile=profile),  # type: ignore[arg-type]
         surface_correction=True,
     )
+    assert np.ptp(model.bonds.bond_correction) > 0.5  # the correction is at work
     return Built(model, deform(model, blank_state(model), seed=dim))
 
 
@@ -233,10 +242,12 @@ def twin_pmb_sed(model: ForceModel, st: State) -> Pairs:
 
 
 # -- LPS --------------------------------------------------------------------------------
-def lps(dim: int, influence: str, correction: bool) -> Built:
-    cloud = plate(nx=9, ny=8) if dim == 2 else block((6, 5, 5))
+def lps(dim: int, influence: str, correction: bool, plane: str = "stress") -> Built:
+    """LPS on a jittered cloud; ``correction``: the per-point influence calibration."""
+    cloud = plate(nx=9, ny=8, plane=plane) if dim == 2 else block((6, 5, 5))
     mat = LPSMaterial(2e9, 0.2, 1500.0, influence=influence)  # type: ignore[arg-type]
     model = mat.force_model(cloud, build_bonds(cloud, 3.015 * DX), surface_correction=correction)
+    assert not correction or np.ptp(model.calibration_factor) > 0.5  # far from uniform
     return Built(model, deform(model, blank_state(model), seed=50 + dim))
 
 
@@ -245,13 +256,24 @@ def twin_lps(model: Any, st: State) -> Pairs:
     args = (model.cloud.x, st.u, b.bond_i, b.bond_j, b.bond_length, model.omega_volume)
     theta = reference_lps.dilatation(*args, st.intact, model.theta_scale, n)
     f_ref, smax = reference_lps.force(
-        *args, st.intact, theta, model.dilatation_coef, model.extension_coef, n,
+        *args,
+        st.intact,
+        theta,
+        model.dilatation_coef,
+        model.extension_coef,
+        n,
         model.omega_volume_far,
     )
     w_ref = reference_lps.energy_density(
         *args, st.intact, model.theta_scale, model.k_theta, model.extension_coef, n
     )
+    vol, rev = model.cloud.volume, b.reverse_index()
+    wv_far = vol[b.bond_j] * model.omega_volume[rev] / vol[b.bond_i]  # V_i wvf = V_j wv'
+    m_ref = reference_lps.weighted_volume(b.bond_i, b.bond_length, model.omega_volume,
+                                          b.bond_intact, n)  # fmt: skip
     return [
+        ("weighted_volume", model.weighted_volume, m_ref),
+        ("far weights", model.omega_volume_far, wv_far),
         ("dilatation", st["dilatation"], theta),
         ("force", st.force, f_ref),
         ("max_stretch", st.max_stretch, smax),
@@ -276,11 +298,14 @@ def twin_micropolar(model: Any, st: State) -> Pairs:
             k.axial, k.shear, k.rotational)  # fmt: skip
     f_ref, m_ref = reference_micropolar.force(*args)
     stretch = reference_micropolar.bond_measures(*args[:5])[3]
+    smax = np.zeros(model.n_points)
+    np.maximum.at(smax, b.bond_i, np.where(st.intact != 0, stretch, 0.0))
     return [
         ("force", st.force, f_ref),
         ("moment", st["moment"], m_ref),
         ("energy", model.energy_density(st), reference_micropolar.energy_density(*args)),
         ("stretch", model.bond_stretch(st), stretch),
+        ("max_stretch", st.max_stretch, smax),
     ]
 
 
@@ -307,10 +332,19 @@ def twin_correspondence(model: Any, st: State) -> Pairs:
     f_ref = reference_correspondence.force(
         *args, st["force_tensor"].reshape(-1, d, d), fgrad, st["stabilization"], model.mode
     )
+    w = np.empty(model.n_points)
+    kernels_correspondence.stabilization_energy(
+        *args[:1], model.length, *args[1:], st["deformation_gradient"].reshape(fgrad.shape),
+        st["stabilization"], model.mode, w,
+    )  # fmt: skip
+    w_ref = reference_correspondence.stabilization_energy(
+        *args, fgrad, st["stabilization"], model.mode
+    )
     return [
         ("family_active", st["family_active"], active),
         ("deformation_gradient", st["deformation_gradient"].reshape(fgrad.shape), fgrad),
         ("force", st.force, f_ref),
+        ("stabilisation energy", w, w_ref),
     ]
 
 
@@ -361,17 +395,28 @@ CASES: list[Case] = [
     Case("pmb_softening-3d", lambda: pmb_softening(3), twin_pmb_softening),
     Case("pmb_sed-2d", pmb_sed, twin_pmb_sed),
     Case("lps-2d", lambda: lps(2, "constant", True), twin_lps),
-    Case("lps-3d", lambda: lps(3, "inverse", False), twin_lps),
+    Case("lps-2d-strain", lambda: lps(2, "inverse", False, "strain"), twin_lps),
+    Case("lps-3d", lambda: lps(3, "inverse", True), twin_lps),
     Case("micropolar-stress", lambda: micropolar("stress"), twin_micropolar, 1e-7, rotate_theta),
     Case("micropolar-strain", lambda: micropolar("strain"), twin_micropolar, 1e-7, rotate_theta),
     *(
-        Case(f"correspondence-{stab}-{d}d", lambda d=d, s=stab: correspondence(d, s),
-             twin_correspondence)  # fmt: skip
+        Case(
+            f"correspondence-{stab}-{d}d",
+            lambda d=d, s=stab: correspondence(d, s),
+            twin_correspondence,
+        )
         for d in (2, 3)
         for stab in ("none", "silling2017", "lbscmm")
     ),
-    Case("correspondence-linear-2d", lambda: correspondence(2, "lbscmm", "linear_elastic"),
-         twin_correspondence, 1e-7),  # fmt: skip
+    *(
+        Case(
+            f"correspondence-linear-{d}d",
+            lambda d=d, s=stab: correspondence(d, s, "linear_elastic"),
+            twin_correspondence,
+            1e-7,
+        )
+        for d, stab in ((2, "lbscmm"), (3, "silling2017"))
+    ),
     Case("composite-pmb+lps+interface", composite),
     Case("toy_spring", toy, twin_toy),
 ]
