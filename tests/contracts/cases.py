@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 from peridynamics.bodies.build import select_bonds
 from peridynamics.bodies.composite import BodyPart, CompositeForceModel
 from peridynamics.bodies.interface import InterfaceBonds
-from peridynamics.bonds.bonds import Bonds, build_bonds
+from peridynamics.bonds.bonds import build_bonds
 from peridynamics.damage.bond_softening import SofteningBonds
 from peridynamics.damage.critical_stretch import CriticalStretch
 from peridynamics.damage.sed import SEDSoftening
@@ -428,4 +428,4 @@ def built(case_id: str) -> Built:
     return next(c for c in CASES if c.id == case_id).build()
 
 
-__all__ = ["CASES", "Built", "Case", "blank_state", "built", "Bonds"]
+__all__ = ["CASES", "Built", "Case", "ForceModel", "blank_state", "built"]

@@ -26,9 +26,8 @@ import pytest
 from numpy.typing import NDArray
 
 from peridynamics.io.checkpoint import read_checkpoint, write_checkpoint
-from peridynamics.models.base import ForceModel
 from peridynamics.state import State
-from tests.contracts.cases import CASES, Case, blank_state, built
+from tests.contracts.cases import CASES, Case, ForceModel, blank_state, built
 
 #: rigid motion: max |V f| over that of a uniform 1e-3 strain; measured <= 8e-13 for a
 #: 0.3 rad rotation (geometrically exact families), 7e-12 for 1e-7 rad (linearised
