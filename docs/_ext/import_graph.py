@@ -137,8 +137,9 @@ def import_edges(src: Path = SRC) -> tuple[Counter[tuple[str, str]], set[str]]:
         tree = ast.parse(path.read_text(), str(path))
         targets = {_node(t) for t in _imported(tree, module, path.name == "__init__.py")}
         for there in targets:
-            known = there is not None and ((src / there).exists() or (src / f"{there}.py").exists())
-            if known and there != here:
+            if there is None or there == here:
+                continue
+            if (src / there).exists() or (src / f"{there}.py").exists():
                 edges[(here, there)] += 1
     return edges, nodes
 

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from functools import cache
+from functools import cache, partial
 from typing import Any
 
 import numpy as np
@@ -402,7 +402,7 @@ CASES: list[Case] = [
     *(
         Case(
             f"correspondence-{stab}-{d}d",
-            lambda d=d, s=stab: correspondence(d, s),
+            partial(correspondence, d, stab),
             twin_correspondence,
         )
         for d in (2, 3)
@@ -411,7 +411,7 @@ CASES: list[Case] = [
     *(
         Case(
             f"correspondence-linear-{d}d",
-            lambda d=d, s=stab: correspondence(d, s, "linear_elastic"),
+            partial(correspondence, d, stab, "linear_elastic"),
             twin_correspondence,
             1e-7,
         )
