@@ -391,6 +391,7 @@ CASES: list[Case] = [
     Case("pmb-1d", lambda: pmb(1, "constant"), twin_pmb),
     Case("pmb-2d", lambda: pmb(2, "conical"), twin_pmb),
     Case("pmb-3d", lambda: pmb(3, "constant"), twin_pmb),
+    Case("pmb-3d-conical", lambda: pmb(3, "conical"), twin_pmb),
     Case("pmb_softening-2d", lambda: pmb_softening(2), twin_pmb_softening),
     Case("pmb_softening-3d", lambda: pmb_softening(3), twin_pmb_softening),
     Case("pmb_sed-2d", pmb_sed, twin_pmb_sed),
