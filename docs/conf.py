@@ -32,6 +32,7 @@ extensions = [
     "cli_help",
     "docstrings",
     "gallery",
+    "import_graph",
 ]
 templates_path = ["_templates"]
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}

@@ -15,7 +15,6 @@ from peridynamics.bodies.composite import BodiesDamage, BodiesMaterial, BodyPart
 from peridynamics.bodies.interface import InterfaceBonds
 from peridynamics.build.errors import SetupError
 from peridynamics.damage import CriticalStretch
-from peridynamics.families.registry import MATERIALS
 from peridynamics.geometry import rectangle
 from peridynamics.solvers.explicit import ExplicitSolver
 
@@ -87,43 +86,6 @@ def test_separate_bodies_do_not_interact_and_keep_their_own_results():
     f = alone.force_of(s.u[:n0])
     assert np.array_equal(f, s.force[:n0])
     assert multi.density[0] == 2700.0 and multi.density[-1] == 1000.0
-
-
-def test_interface_force_is_minus_the_energy_gradient():
-    cloud, n0, within, across = _two_blocks()
-    iface = InterfaceBonds("a/b", across, 0.5 * 9 * 40e9 / (np.pi * DX * (3.015 * DX) ** 3), 1e-3)
-    parts = (
-        BodyPart("a", 0, n0, BondBasedMaterial(70e9, 2700.0), CriticalStretch(1.0)),
-        BodyPart(
-            "b", n0, cloud.n_points, MATERIALS["lps"](20e9, 0.25, 1000.0), CriticalStretch(1.0)
-        ),
-    )
-    model = Model(
-        cloud, within, BodiesMaterial(parts, (iface,)), BodiesDamage(parts), surface_correction=True
-    )
-    rng = np.random.default_rng(7)
-    s = model.new_state()
-    assert s["interface_intact"].all() and len(s["interface_intact"]) == across.n_bonds
-    s.u[...] = rng.normal(0, 1e-3 * DX, s.u.shape)
-    model.evaluate(s, commit=False)
-    vf = cloud.volume[:, None] * s.force
-    scale = np.abs(vf).max()
-    fm = model.force_model
-
-    def energy(u):
-        t = copy.copy(s)
-        t.fields = dict(s.fields)
-        t.fields["u"] = u
-        return float(np.sum(fm.energy_density(t) * cloud.volume))
-
-    h = 1e-7 * DX
-    for i in (n0 - 3, n0 + 2, 5, cloud.n_points - 1):  # both sides of the interface
-        for c in range(2):
-            up, um = s.u.copy(), s.u.copy()
-            up[i, c] += h
-            um[i, c] -= h
-            grad = (energy(up) - energy(um)) / (2 * h)
-            assert -grad == pytest.approx(vf[i, c], rel=1e-6, abs=1e-6 * scale), (i, c)
 
 
 def test_interface_bonds_break_at_their_own_stretch_and_show_as_damage():
@@ -230,42 +192,6 @@ def test_a_body_name_is_a_node_set_for_conditions_and_probes():
                                "component": "x"}]}  # fmt: skip
     deck = dk.parse_deck(d)
     assert deck.output.probes[0].set == "aggregate"
-
-
-def test_composite_tangent_with_an_interface_is_the_dense_finite_difference_tangent():
-    """Oracle: every column by central differences of the pure force (no colouring)."""
-    cloud, n0, within, across = _two_blocks()
-    mat = BondBasedMaterial(70e9, 2700.0)
-    c0 = mat.micromodulus_constant(2, 3.015 * DX, DX, "stress")
-    parts = (
-        BodyPart("a", 0, n0, mat, CriticalStretch(1.0)),
-        BodyPart(
-            "b", n0, cloud.n_points, MATERIALS["lps"](20e9, 0.25, 1000.0), CriticalStretch(1.0)
-        ),
-    )
-    iface = InterfaceBonds("a/b", across, 0.7 * c0, 1.0)
-    model = Model(
-        cloud, within, BodiesMaterial(parts, (iface,)), BodiesDamage(parts), surface_correction=True
-    )
-    s = model.new_state()
-    rng = np.random.default_rng(11)
-    s.u[...] = rng.normal(0, 1e-3 * DX, s.u.shape)
-    k = model.tangent(s).toarray()
-    n, d = s.u.shape
-    h = 1e-6 * DX
-    dense = np.empty((n * d, n * d))
-    for col in range(n * d):
-        i, c = divmod(col, d)
-        u0 = s.u[i, c]
-        s.u[i, c] = u0 + h
-        model.evaluate(s, commit=False)
-        fp = (cloud.volume[:, None] * s.force).reshape(-1)
-        s.u[i, c] = u0 - h
-        model.evaluate(s, commit=False)
-        fm = (cloud.volume[:, None] * s.force).reshape(-1)
-        s.u[i, c] = u0
-        dense[:, col] = -(fp - fm) / (2 * h)
-    assert np.abs(k - dense).max() < 1e-6 * np.abs(dense).max()
 
 
 def test_static_solve_of_two_bodies_with_an_interface_converges_like_one_body():

@@ -83,9 +83,9 @@ def _run_members(
     args: argparse.Namespace, out: Path, seeds: list[int], prefix: str, catch_ctrl_c: bool
 ) -> tuple[list[dict[str, Any]], Problem | None]:
     """Run the realisations of ``seeds`` one after the other; stop at the first problem."""
-    from peridynamics.deck import DeckError, load_deck
     from peridynamics.app.run import RunInterrupted, Simulation
     from peridynamics.build.errors import SetupError
+    from peridynamics.deck import DeckError, load_deck
     from peridynamics.solvers import SimulationUnstable
 
     runs: list[dict[str, Any]] = []
