@@ -6,7 +6,7 @@ Usage::
     python benchmarks/correspondence_step.py                 # 2-D 300 x 300, 3-D 40^3
     python benchmarks/correspondence_step.py --n2 200 --n3 30 --repeat 30 --json out.json
 
-Each model's ``Model.evaluate(state, commit=False)`` (pre-pass, force pass, and for PMB
+Each model's ``Evaluator.evaluate(state, commit=False)`` (pre-pass, force pass, and for PMB
 the fused pure pass) is timed on a small random displacement, after a warm-up call;
 the best of ``--repeat`` calls is kept. Prints seconds per evaluation, nanoseconds per
 directed bond and the ratio to PMB, and the CPU model.
@@ -43,7 +43,7 @@ def _time(model: Any, repeat: int) -> float:
 
 def bench(dim: int, n: int, repeat: int) -> dict[str, Any]:
     from peridynamics.bonds.bonds import build_bonds
-    from peridynamics.evaluation import Model
+    from peridynamics.evaluation import Evaluator
     from peridynamics.families.correspondence.material import CorrespondenceMaterial
     from peridynamics.families.lps.material import LPSMaterial
     from peridynamics.families.pmb.material import BondBasedMaterial
@@ -65,7 +65,7 @@ def bench(dim: int, n: int, repeat: int) -> dict[str, Any]:
     }
     out: dict[str, Any] = {"dim": dim, "points": cloud.n_points, "bonds": bonds.n_bonds}
     for name, mat in models.items():
-        sec = _time(Model(cloud, bonds, mat), repeat)
+        sec = _time(Evaluator(cloud, bonds, mat), repeat)
         out[name] = {"s_per_eval": sec, "ns_per_bond": sec / bonds.n_bonds * 1e9}
     base = out["pmb"]["s_per_eval"]
     for name in models:

@@ -30,7 +30,7 @@ def skip_foreign(app: Any, what: str, name: str, obj: Any, skip: bool, options: 
 
 
 def resolve_short(app: Any, env: Any, node: Any, contnode: Any) -> Any:
-    """Docstrings name the package's objects briefly (``:class:`Model```,
+    """Docstrings name the package's objects briefly (``:class:`Evaluator```,
     ``:meth:`ExplicitSolver.step```). Resolve such a name to the object of the same
     module when there is one, else to the only documented object whose full name ends
     with it; leave it unresolved (a warning, an error with ``-W``) when it is

@@ -35,7 +35,7 @@ except ImportError:  # a source checkout that was not installed: use its src/ fo
 
 from peridynamics.analysis import dispersion as dsp  # noqa: E402
 from peridynamics.bonds import build_bonds  # noqa: E402
-from peridynamics.evaluation import Model  # noqa: E402
+from peridynamics.evaluation import Evaluator  # noqa: E402
 from peridynamics.families.pmb import BondBasedMaterial  # noqa: E402
 from peridynamics.geometry import rectangle  # noqa: E402
 
@@ -343,12 +343,12 @@ def seed003_fig6(out_dir: Path, n: int) -> Path:
 def engine_patch(partial_volume: str, h: float = 1e-3, thickness: float = 0.01) -> tuple:
     """(model, centre point) of a 21 x 21-point plane-stress patch, delta = 3.015 h."""
     cloud = rectangle((21 * h, 21 * h), h, thickness=thickness)
-    model = Model(cloud, build_bonds(cloud, M003 * h, partial_volume), BondBasedMaterial(E, RHO))
+    model = Evaluator(cloud, build_bonds(cloud, M003 * h, partial_volume), BondBasedMaterial(E, RHO))
     centre = int(np.argmin(np.sum((cloud.x - cloud.x.mean(axis=0)) ** 2, axis=1)))
     return model, centre
 
 
-def _diagonal_branches(model: Model, point: int, kx: np.ndarray) -> np.ndarray:
+def _diagonal_branches(model: Evaluator, point: int, kx: np.ndarray) -> np.ndarray:
     """(D_xx, D_yy) of the tensor operator along x from the bond list: at theta = 0 the
     mirror-symmetric family makes D(k) diagonal, so these are the L and T branches."""
     b = model.bonds

@@ -9,7 +9,7 @@ except PackageNotFoundError:  # running from a source tree
 
 from peridynamics.bonds import Bonds, build_bonds
 from peridynamics.damage import CriticalStretch
-from peridynamics.evaluation import Model
+from peridynamics.evaluation import Evaluator
 from peridynamics.families.pmb import BondBasedMaterial
 from peridynamics.geometry import PointCloud
 from peridynamics.solvers import ExplicitSolver, State
@@ -19,7 +19,7 @@ __all__ = [
     "Bonds",
     "CriticalStretch",
     "ExplicitSolver",
-    "Model",
+    "Evaluator",
     "PointCloud",
     "State",
     "__version__",

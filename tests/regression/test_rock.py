@@ -9,7 +9,7 @@ import json
 import numpy as np
 import pytest
 
-from peridynamics import BondBasedMaterial, Model, build_bonds
+from peridynamics import BondBasedMaterial, Evaluator, build_bonds
 from peridynamics.evaluation.short_range_contact import ShortRangeContact
 from peridynamics.geometry import rectangle
 from peridynamics.geometry.regions import Box
@@ -138,7 +138,7 @@ def test_contact_stops_two_blocks_interpenetrating_in_a_model() -> None:
                               ShortRangeContact.parks_stiffness(c0, d_c, bonds.horizon))
             if with_contact else None
         )  # fmt: skip
-        model = Model(cloud, bonds, material, contact=contact)
+        model = Evaluator(cloud, bonds, material, contact=contact)
         solver = ExplicitSolver(model, safety_factor=0.5)
         s = solver.init()
         s.v[:, 0] = np.where(left, 20.0, -20.0)

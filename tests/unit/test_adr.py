@@ -13,7 +13,7 @@ import numba
 import numpy as np
 import pytest
 
-from peridynamics import BondBasedMaterial, CriticalStretch, Model, build_bonds
+from peridynamics import BondBasedMaterial, CriticalStretch, Evaluator, build_bonds
 from peridynamics.families.pmb.tangent import pmb_tangent
 from peridynamics.geometry import box, rectangle
 from peridynamics.kernels.adr import adr_norms, adr_update
@@ -41,13 +41,13 @@ def _one_thread() -> Iterator[None]:
     numba.set_num_threads(before)
 
 
-def _plate_model(nx: int = 10, ny: int = 6, **kw: object) -> Model:
+def _plate_model(nx: int = 10, ny: int = 6, **kw: object) -> Evaluator:
     dx = 1e-3
     cloud = rectangle((nx * dx, ny * dx), dx)
-    return Model(cloud, build_bonds(cloud, 3.015 * dx), BondBasedMaterial(E, RHO), **kw)  # type: ignore[arg-type]
+    return Evaluator(cloud, build_bonds(cloud, 3.015 * dx), BondBasedMaterial(E, RHO), **kw)  # type: ignore[arg-type]
 
 
-def _fd_tangent(model: Model, u: np.ndarray, intact: np.ndarray, h: float) -> np.ndarray:
+def _fd_tangent(model: Evaluator, u: np.ndarray, intact: np.ndarray, h: float) -> np.ndarray:
     """-d(V f)/du by central differences, dense (n dim, n dim)."""
     vol = model.cloud.volume[:, None]
     m = u.size
@@ -68,7 +68,7 @@ def test_pmb_tangent_equals_finite_differences(dim: int, amplitude: float) -> No
         cloud = rectangle((8e-3, 5e-3), 1e-3)
     else:
         cloud = box((4e-3, 4e-3, 3e-3), 1e-3)
-    model = Model(cloud, build_bonds(cloud, 3.015e-3), BondBasedMaterial(E, RHO))
+    model = Evaluator(cloud, build_bonds(cloud, 3.015e-3), BondBasedMaterial(E, RHO))
     u = np.random.default_rng(dim).normal(0.0, amplitude, cloud.x.shape)
     s = model.new_state()
     s.u[...] = u
@@ -209,10 +209,10 @@ def test_load_stepping_scales_loads_and_displacements() -> None:
     assert np.all(s.body[right, 0] == 0.25e9) and np.all(s.body[left] == 0.0)
 
 
-def _pulled_model(s0: float) -> tuple[Model, list[Kinematic]]:
+def _pulled_model(s0: float) -> tuple[Evaluator, list[Kinematic]]:
     cloud = rectangle((12e-3, 6e-3), 1e-3)
     bonds = build_bonds(cloud, 3.015e-3)
-    model = Model(cloud, bonds, BondBasedMaterial(E, RHO), CriticalStretch(s0))
+    model = Evaluator(cloud, bonds, BondBasedMaterial(E, RHO), CriticalStretch(s0))
     x = cloud.x
     left = np.flatnonzero(x[:, 0] < 1e-3)
     right = np.flatnonzero(x[:, 0] > 11e-3)

@@ -7,7 +7,7 @@ import copy
 import numpy as np
 import pytest
 
-from peridynamics import BondBasedMaterial, Model, build_bonds
+from peridynamics import BondBasedMaterial, Evaluator, build_bonds
 from peridynamics import deck as dk
 from peridynamics.app.run import Simulation
 from peridynamics.bodies.build import select_bonds
@@ -40,7 +40,7 @@ def _two_blocks():
     return cloud, n0, within, across
 
 
-def _explicit(model: Model, steps: int, pull: float) -> np.ndarray:
+def _explicit(model: Evaluator, steps: int, pull: float) -> np.ndarray:
     solver = ExplicitSolver(model, safety_factor=0.5)
     s = solver.init()
     right = model.cloud.x[:, 0] > model.cloud.x[:, 0].max() - 1.5 * DX
@@ -55,9 +55,9 @@ def test_one_body_through_the_composite_path_is_bit_for_bit():
     bonds = build_bonds(cloud, 3.015 * DX)
     mat = BondBasedMaterial(70e9, 2700.0)
     dmg = CriticalStretch(2e-3)
-    plain = Model(cloud, bonds, mat, dmg, surface_correction=True)
+    plain = Evaluator(cloud, bonds, mat, dmg, surface_correction=True)
     part = BodyPart("main", 0, cloud.n_points, mat, dmg)
-    multi = Model(
+    multi = Evaluator(
         cloud, bonds, BodiesMaterial((part,)), BodiesDamage((part,)), surface_correction=True
     )
     a = _explicit(plain, 300, 20.0)
@@ -75,14 +75,14 @@ def test_separate_bodies_do_not_interact_and_keep_their_own_results():
     m1 = BondBasedMaterial(20e9, 1000.0)
     d = CriticalStretch(1.0)
     parts = (BodyPart("a", 0, n0, m0, d), BodyPart("b", n0, cloud.n_points, m1, d))
-    multi = Model(cloud, within, BodiesMaterial(parts), BodiesDamage(parts))
+    multi = Evaluator(cloud, within, BodiesMaterial(parts), BodiesDamage(parts))
     s = multi.new_state()
     rng = np.random.default_rng(3)
     s.u[...] = rng.normal(0, 1e-3 * DX, s.u.shape)
     multi.evaluate(s, commit=False)
     from peridynamics.bodies.composite import sub_bonds, sub_cloud
 
-    alone = Model(sub_cloud(cloud, 0, n0), sub_bonds(within, 0, n0), m0, d)
+    alone = Evaluator(sub_cloud(cloud, 0, n0), sub_bonds(within, 0, n0), m0, d)
     f = alone.force_of(s.u[:n0])
     assert np.array_equal(f, s.force[:n0])
     assert multi.density[0] == 2700.0 and multi.density[-1] == 1000.0
@@ -95,7 +95,7 @@ def test_interface_bonds_break_at_their_own_stretch_and_show_as_damage():
     iface = InterfaceBonds("a/b", across, c0, 2e-4)
     strong = CriticalStretch(1e-2)
     parts = (BodyPart("a", 0, n0, mat, strong), BodyPart("b", n0, cloud.n_points, mat, strong))
-    model = Model(cloud, within, BodiesMaterial(parts, (iface,)), BodiesDamage(parts))
+    model = Evaluator(cloud, within, BodiesMaterial(parts, (iface,)), BodiesDamage(parts))
     s = model.new_state()
     s.u[n0:, 0] = 1e-3 * DX * 2  # right block moved: interface bonds stretch, bodies do not
     broken = model.evaluate(s, commit=True)

@@ -14,7 +14,7 @@ import math
 import numpy as np
 import pytest
 
-from peridynamics import BondBasedMaterial, Model, build_bonds
+from peridynamics import BondBasedMaterial, Evaluator, build_bonds
 from peridynamics.damage.bond_softening import SofteningBonds
 from peridynamics.families.pmb_softening.envelope import softening_envelope
 from peridynamics.geometry import box, rectangle
@@ -52,7 +52,7 @@ def oracle_g(s: np.ndarray, s0: float, sf: float, law: str) -> np.ndarray:
     return np.interp(s, [0.0, s0, s1, sf], [0.0, s0, beta * s0, 0.0], right=0.0)
 
 
-def pair(dim: int, length: float = 1e-3) -> tuple[PointCloud, Model, np.ndarray]:
+def pair(dim: int, length: float = 1e-3) -> tuple[PointCloud, Evaluator, np.ndarray]:
     """Two points one oblique bond apart (no partial volumes, no surface correction),
     and the unit bond vector."""
     n = np.array([1.0, 0.6, -0.3][:dim])
@@ -63,12 +63,12 @@ def pair(dim: int, length: float = 1e-3) -> tuple[PointCloud, Model, np.ndarray]
     return cloud, build_bonds(cloud, 1.5 * length, partial_volume="none"), n
 
 
-def soft_model(dim: int, law: str, **kw: object) -> tuple[Model, np.ndarray]:
+def soft_model(dim: int, law: str, **kw: object) -> tuple[Evaluator, np.ndarray]:
     cloud, bonds, n = pair(dim)
-    return Model(cloud, bonds, BondBasedMaterial(E, RHO), SofteningBonds(law, FT, G0, **kw)), n
+    return Evaluator(cloud, bonds, BondBasedMaterial(E, RHO), SofteningBonds(law, FT, G0, **kw)), n
 
 
-def pull(model: Model, state, n: np.ndarray, s: float, commit: bool = True) -> float:
+def pull(model: Evaluator, state, n: np.ndarray, s: float, commit: bool = True) -> float:
     """Stretch the pair to s along the bond; returns the bond force (N) on point 1
     along the bond (tension positive)."""
     state.u[0] = 0.0
@@ -131,7 +131,7 @@ def test_strength_above_what_g0_allows_is_refused_with_the_fix() -> None:
 
 
 # -------------------------------------------------------------- kernels and oracles
-def random_body(dim: int, seed: int) -> tuple[Model, object, np.random.Generator]:
+def random_body(dim: int, seed: int) -> tuple[Evaluator, object, np.random.Generator]:
     """A small cloud with random displacements, history, broken bonds and no-fail
     points; the state is filled in."""
     rng = np.random.default_rng(seed)
@@ -139,7 +139,7 @@ def random_body(dim: int, seed: int) -> tuple[Model, object, np.random.Generator
     cloud = rectangle((0.008, 0.006), dx, H) if dim == 2 else box((0.005, 0.004, 0.004), dx)
     bonds = build_bonds(cloud, 3.015 * dx)
     soft = SofteningBonds("trilinear", FT, G0, knee=(0.3, 0.4), no_fail=np.array([0, 5]))
-    model = Model(cloud, bonds, BondBasedMaterial(E, RHO), soft)
+    model = Evaluator(cloud, bonds, BondBasedMaterial(E, RHO), soft)
     sf = model.force_model.envelope.s_f
     rev = bonds.reverse_index()
     state = model.new_state()
@@ -151,7 +151,7 @@ def random_body(dim: int, seed: int) -> tuple[Model, object, np.random.Generator
     return model, state, rng
 
 
-def twin_args(model: Model, state) -> tuple:
+def twin_args(model: Evaluator, state) -> tuple:
     b = model.bonds
     return (model.cloud.x, state.u, b.bond_i, b.bond_j, b.bond_length)
 

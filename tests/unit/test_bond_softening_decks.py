@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from peridynamics import BondBasedMaterial, CriticalStretch, Model
+from peridynamics import BondBasedMaterial, CriticalStretch, Evaluator
 from peridynamics.app.run import Simulation
 from peridynamics.build.cloud import build_bonds_for
 from peridynamics.build.materials import build_damage
@@ -127,7 +127,7 @@ def test_deck_plate_in_tension_has_a_softening_tail(tmp_path: Path) -> None:
 
 def test_brittle_law_is_the_critical_stretch_path_bit_for_bit() -> None:
     """``bond_law: brittle`` (the default) builds the critical-stretch law, and a short
-    explicit run equals one of a hand-built Model with CriticalStretch bit for bit."""
+    explicit run equals one of a hand-built Evaluator with CriticalStretch bit for bit."""
     d = plate({"bond_law": "brittle", "fracture_energy": G0})
     d["solver"] = {"steps": 300, "damping": 2e5}
     deck = parse_deck(d)
@@ -137,7 +137,7 @@ def test_brittle_law_is_the_critical_stretch_path_bit_for_bit() -> None:
     bonds = build_bonds_for(deck, cloud)
     s0 = material.critical_stretch(G0, 2, bonds.horizon, H, "stress")
     no_fail = np.union1d(cloud.node_set("left"), cloud.node_set("right"))
-    hand = Model(
+    hand = Evaluator(
         cloud,
         bonds,
         material,

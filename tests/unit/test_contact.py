@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from peridynamics import BondBasedMaterial, Model, PointCloud, build_bonds
+from peridynamics import BondBasedMaterial, Evaluator, PointCloud, build_bonds
 from peridynamics.bonds.search import brute_force_pairs
 from peridynamics.evaluation.short_range_contact import ShortRangeContact
 from peridynamics.geometry import bar, box, rectangle
@@ -264,7 +264,7 @@ def test_two_blocks_collide_and_bounce_back_elastically() -> None:
     intact0 = bonds.bond_intact.copy()
     intact0[across] = 0  # two separate bodies
     material = BondBasedMaterial(E, rho)
-    model = Model(cloud, bonds, material)
+    model = Evaluator(cloud, bonds, material)
     d_c = 0.9 * DX
     # a soft contact (0.3 c): contact time long against the blocks' vibration period,
     # so little energy goes into vibrations (15 c d_c / delta gives restitution ~0.87)

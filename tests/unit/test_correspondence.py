@@ -8,7 +8,7 @@ import pytest
 import scipy.sparse.linalg as spla
 
 from peridynamics.bonds.bonds import Bonds, build_bonds
-from peridynamics.evaluation import Model
+from peridynamics.evaluation import Evaluator
 from peridynamics.families.correspondence.material import CorrespondenceMaterial
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.geometry.generators import box, rectangle
@@ -26,11 +26,11 @@ def _block(dx: float = 1e-3, n: tuple[int, int, int] = (7, 6, 6), rule: str = "t
     return cloud, build_bonds(cloud, 2.015 * dx, rule)
 
 
-def _model(cloud, bonds, stab: str, nu: float = 0.3, law: str = "st_venant_kirchhoff") -> Model:
-    return Model(cloud, bonds, CorrespondenceMaterial(70e9, nu, 2700.0, stab, law=law))
+def _model(cloud, bonds, stab: str, nu: float = 0.3, law: str = "st_venant_kirchhoff") -> Evaluator:
+    return Evaluator(cloud, bonds, CorrespondenceMaterial(70e9, nu, 2700.0, stab, law=law))
 
 
-def _forces(m: Model, u: np.ndarray, intact: np.ndarray | None = None):
+def _forces(m: Evaluator, u: np.ndarray, intact: np.ndarray | None = None):
     s = m.new_state()
     s.u[...] = u
     if intact is not None:
@@ -94,7 +94,7 @@ def _periodic_patch(n: int = 9, delta: float = 3.0) -> tuple[PointCloud, Bonds]:
     return cloud, bonds
 
 
-def _dense_stiffness(m: Model, h: float = 1e-6) -> np.ndarray:
+def _dense_stiffness(m: Evaluator, h: float = 1e-6) -> np.ndarray:
     """K = -d(V f)/du by central differences, one dof at a time (dense)."""
     n, d = m.n_points, m.dim
     k = np.zeros((n * d, n * d))
@@ -116,7 +116,7 @@ def test_zero_energy_modes_of_a_periodic_patch() -> None:
     cloud, bonds = _periodic_patch()
     stats = {}
     for stab in STABS:
-        m = Model(cloud, bonds, CorrespondenceMaterial(1.0, 0.3, 1.0, stab))
+        m = Evaluator(cloud, bonds, CorrespondenceMaterial(1.0, 0.3, 1.0, stab))
         k = _dense_stiffness(m)
         asym = np.abs(k - k.T).max() / np.abs(k).max()
         assert asym < 1e-8, (stab, asym)
@@ -169,7 +169,7 @@ def test_principal_stress_criterion_breaks_at_the_tensile_strength() -> None:
     f_t = 7e6
     crit = CorrespondenceFailure(CriticalStretch(np.inf), tensile_strength=f_t)
     mat = CorrespondenceMaterial(70e9, 0.0, 2700.0, "lbscmm", 1.0, "linear_elastic")
-    m = Model(cloud, bonds, mat, damage=crit)
+    m = Evaluator(cloud, bonds, mat, damage=crit)
     for factor, expect in ((0.999, 0), (1.001, bonds.n_bonds)):
         eps = factor * f_t / 70e9
         s = m.new_state()
@@ -187,7 +187,7 @@ def test_3d_box_in_uniaxial_tension_gives_e_and_nu() -> None:
     bonds = build_bonds(cloud, 2.015 * dx)
     E, nu = 70e9, 0.25
     mat = CorrespondenceMaterial(E, nu, 2700.0, "lbscmm", 1.0, "linear_elastic")
-    m = Model(cloud, bonds, mat)
+    m = Evaluator(cloud, bonds, mat)
     s = m.new_state()
     k = m.tangent(s).tocsr()
     x = cloud.x

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from peridynamics import BondBasedMaterial, CriticalStretch, Model, build_bonds
+from peridynamics import BondBasedMaterial, CriticalStretch, Evaluator, build_bonds
 from peridynamics.damage import NO_DAMAGE, family_minimum
 from peridynamics.geometry import bar, box, rectangle
 from peridynamics.kernels import reference
@@ -27,7 +27,7 @@ def test_bond_breaking_is_symmetric_after_large_random_deformation(dim, seed):
     rng = np.random.default_rng(seed)
     cloud = body(dim)
     b = build_bonds(cloud, 3.015 * DX)
-    model = Model(cloud, b, BondBasedMaterial(70e9, 2700.0), damage=CriticalStretch(0.05))
+    model = Evaluator(cloud, b, BondBasedMaterial(70e9, 2700.0), damage=CriticalStretch(0.05))
     # heterogeneous thresholds: per-point field, symmetric by the (s0_i + s0_j)/2 rule
     model.point_s0 = rng.uniform(0.02, 0.2, cloud.n_points)
     model.family_s0_min = family_minimum(b, model.point_s0)
@@ -46,7 +46,7 @@ def test_bond_breaking_is_symmetric_after_large_random_deformation(dim, seed):
 def test_broken_bonds_stay_broken_and_carry_no_force():
     cloud = body(2)
     b = build_bonds(cloud, 3.015 * DX)
-    model = Model(cloud, b, BondBasedMaterial(70e9, 2700.0), damage=CriticalStretch(0.01))
+    model = Evaluator(cloud, b, BondBasedMaterial(70e9, 2700.0), damage=CriticalStretch(0.01))
     rng = np.random.default_rng(3)
     u = rng.normal(0.0, 0.02 * DX, cloud.x.shape)
     intact = b.bond_intact.copy()
@@ -69,7 +69,7 @@ def test_broken_bonds_stay_broken_and_carry_no_force():
 def test_no_damage_never_breaks():
     cloud = body(2)
     b = build_bonds(cloud, 3.015 * DX)
-    model = Model(cloud, b, BondBasedMaterial(70e9, 2700.0), damage=NO_DAMAGE)
+    model = Evaluator(cloud, b, BondBasedMaterial(70e9, 2700.0), damage=NO_DAMAGE)
     u = np.random.default_rng(0).normal(0.0, 0.5 * DX, cloud.x.shape)
     intact = b.bond_intact.copy()
     assert model.internal_force(u, intact, np.empty_like(u), np.empty(cloud.n_points)) == 0
@@ -95,7 +95,7 @@ def test_fused_explicit_path_equals_trial_commit_force(dim) -> None:
     rng = np.random.default_rng(7)
     cloud = body(dim)
     b = build_bonds(cloud, 3.015 * DX)
-    model = Model(cloud, b, BondBasedMaterial(70e9, 2700.0), damage=CriticalStretch(0.05))
+    model = Evaluator(cloud, b, BondBasedMaterial(70e9, 2700.0), damage=CriticalStretch(0.05))
     fused, split = model.new_state(), model.new_state()
     u = rng.normal(0.0, 0.15 * DX, cloud.x.shape)
     fused.u[:] = u

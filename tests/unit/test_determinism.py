@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from peridynamics.bonds import build_bonds
-from peridynamics.evaluation import Model
+from peridynamics.evaluation import Evaluator
 from peridynamics.families.pmb import BondBasedMaterial
 from peridynamics.geometry import bar, box, rectangle
 from peridynamics.kernels import bond_based as bb
@@ -24,7 +24,7 @@ def _fresh(kernel):
 def test_fresh_and_cached_kernels_agree_bitwise(dim: int) -> None:
     cloud = {1: bar(0.05, 1e-3), 2: rectangle((0.01, 0.01), 5e-4), 3: box((0.008,) * 3, 1e-3)}[dim]
     bonds = build_bonds(cloud, 3.015 * cloud.spacing)
-    model = Model(cloud, bonds, BondBasedMaterial(70e9, 2700.0))
+    model = Evaluator(cloud, bonds, BondBasedMaterial(70e9, 2700.0))
     u = np.random.default_rng(dim).normal(0.0, 1e-6, cloud.x.shape)
     kernel = bb.FORCE_KERNELS[dim]
     out = []

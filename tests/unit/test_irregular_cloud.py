@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 from scipy.spatial import ConvexHull, Voronoi
 
-from peridynamics import BondBasedMaterial, Model, build_bonds
+from peridynamics import BondBasedMaterial, Evaluator, build_bonds
 from peridynamics.analysis.anisotropy import damage_anisotropy
 from peridynamics.bonds.surface import energy_correction_factors, moment_correction_factors
 from peridynamics.build.cloud import build_cloud
@@ -224,19 +224,19 @@ def test_moment_correction_gives_every_interior_point_the_continuum_energy(dim: 
     )
     np.testing.assert_allclose(g, g[bonds.reverse_index()], rtol=1e-14)  # pair forces
     assert g.min() > 0
-    model = Model(cloud, bonds.with_correction(g), mat)
+    model = Evaluator(cloud, bonds.with_correction(g), mat)
     nu = 1 / 3 if dim == 2 else 0.25
     lam = e_mod * nu / ((1 + nu) * (1 - (dim - 1) * nu))  # plane stress / 3-D
     mu = e_mod / (2 * (1 + nu))
     inner = np.all((cloud.x > 2 * bonds.horizon) & (cloud.x < size - 2 * bonds.horizon), axis=1)
     assert inner.sum() >= 8
     # the axis energy method (what surface_correction gives on a regular grid)
-    axes = Model(
+    axes = Evaluator(
         cloud,
         bonds.with_correction(energy_correction_factors(cloud.x, bonds, raw, w_inf, 1e-6)),
         mat,
     )
-    deck_path = Model(cloud, bonds, mat, surface_correction=True)  # irregular: moments
+    deck_path = Evaluator(cloud, bonds, mat, surface_correction=True)  # irregular: moments
     assert np.array_equal(deck_path.bonds.bond_correction, g)
     errors = []
     # uniaxial, simple shear, equibiaxial, pure shear in the x-y plane

@@ -6,7 +6,7 @@ import numba
 import numpy as np
 import pytest
 
-from peridynamics import BondBasedMaterial, CriticalStretch, Model, build_bonds
+from peridynamics import BondBasedMaterial, CriticalStretch, Evaluator, build_bonds
 from peridynamics.damage import family_minimum
 from peridynamics.geometry import PointCloud, bar, box, rectangle
 from peridynamics.kernels import bond_based, reference
@@ -172,7 +172,7 @@ def test_force_by_hand_three_points_1d():
     dx, area, E = 1.0, 2.0, 3.0
     cloud = bar(3.0, dx, area=area)  # points at 0.5, 1.5, 2.5
     b = build_bonds(cloud, 2.0 * dx, partial_volume="none")
-    model = Model(cloud, b, BondBasedMaterial(E, 1.0))
+    model = Evaluator(cloud, b, BondBasedMaterial(E, 1.0))
     c = 2 * E / (area * 2.0**2)  # micromodulus c = 2E/(A delta^2)
     vol = area * dx
     u = np.array([[0.0], [0.1], [-0.05]])
@@ -195,7 +195,7 @@ def test_damage_model_respects_no_fail_points():
     cloud, b, _, u, _ = setup(2, seed=5)
     mat = BondBasedMaterial(70e9, 2700.0)
     nf = np.arange(0, cloud.n_points, 3)
-    model = Model(cloud, b, mat, damage=CriticalStretch(1e-6, no_fail=nf))
+    model = Evaluator(cloud, b, mat, damage=CriticalStretch(1e-6, no_fail=nf))
     intact = b.bond_intact.copy()
     model.internal_force(u, intact, np.empty_like(u), np.empty(cloud.n_points))
     touches = np.isin(b.bond_i, nf) | np.isin(b.bond_j, nf)

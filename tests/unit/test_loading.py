@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from peridynamics import BondBasedMaterial, ExplicitSolver, Model, build_bonds
+from peridynamics import BondBasedMaterial, ExplicitSolver, Evaluator, build_bonds
 from peridynamics.geometry import Box, bar, rectangle
 from peridynamics.loading import (
     BodyForce,
@@ -71,7 +71,7 @@ def test_traction_layer_and_body_force():
 
 def test_prescribed_velocity_and_body_force_in_a_run():
     cloud = bar(0.02, 1e-3, area=1e-6)
-    model = Model(
+    model = Evaluator(
         cloud,
         build_bonds(cloud, 3e-3),
         BondBasedMaterial(200e9, 7850.0),

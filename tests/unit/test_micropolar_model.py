@@ -14,7 +14,7 @@ import pytest
 import scipy.linalg as la
 
 from peridynamics.bonds.bonds import build_bonds
-from peridynamics.evaluation import Model
+from peridynamics.evaluation import Evaluator
 from peridynamics.families.assembly import element_assembly
 from peridynamics.families.micropolar.material import MicropolarMaterial
 from peridynamics.geometry.generators import bar, box, rectangle
@@ -35,7 +35,7 @@ def make_model(
     cloud = rectangle(size, dx, thickness=1.0, plane=plane)
     bonds = build_bonds(cloud, m * dx)
     material = MicropolarMaterial(E, nu, RHO, rotational_stiffness_ratio=ratio)
-    return Model(cloud, bonds, material, surface_correction=surface_correction)
+    return Evaluator(cloud, bonds, material, surface_correction=surface_correction)
 
 
 def break_pairs(model, fraction, rng):
@@ -155,10 +155,10 @@ def test_material_errors():
             mat.critical_stretch(100.0, dim, 0.03)
     cube = box((0.04, 0.04, 0.04), 0.01)
     with pytest.raises(ValueError, match="2-D"):
-        Model(cube, build_bonds(cube, 0.02015), mat)
+        Evaluator(cube, build_bonds(cube, 0.02015), mat)
     line = bar(0.1, 0.01)
     with pytest.raises(ValueError, match="2-D"):
-        Model(line, build_bonds(line, 0.03015), mat)
+        Evaluator(line, build_bonds(line, 0.03015), mat)
 
 
 # -- 2.-4. Numba == NumPy, rigid motion, force = -grad(energy): tests/contracts ------------

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from peridynamics import BondBasedMaterial, Model, build_bonds
+from peridynamics import BondBasedMaterial, Evaluator, build_bonds
 from peridynamics.damage import family_minimum
 from peridynamics.geometry import PointCloud, box, rectangle
 from peridynamics.kernels import reference
@@ -108,7 +108,7 @@ def test_float32_model_run_tracks_float64(tmp_path):
     cloud = rectangle((0.03, 0.01), 5e-4, thickness=1e-3)
     runs = []
     for precision in ("float64", "float32"):
-        model = Model(cloud, build_bonds(cloud, 3.015 * 5e-4), BondBasedMaterial(70e9, 2500.0))
+        model = Evaluator(cloud, build_bonds(cloud, 3.015 * 5e-4), BondBasedMaterial(70e9, 2500.0))
         if precision == "float32":
             model.force_model.set_precision("float32")
         solver = ExplicitSolver(model)

@@ -7,7 +7,7 @@ import warnings
 import numpy as np
 import pytest
 
-from peridynamics import BondBasedMaterial, Model, build_bonds
+from peridynamics import BondBasedMaterial, Evaluator, build_bonds
 from peridynamics.bonds import RectangleCrack, SegmentCrack, make_crack
 from peridynamics.geometry import box, rectangle
 from peridynamics.kernels import reference
@@ -67,7 +67,7 @@ def test_segment_crack_cuts_exactly_crossing_bonds(name):
     assert np.array_equal(b.bond_intact, b.bond_intact[rev])
 
     # damage is positive exactly at points owning a cut bond, all within delta of the crack
-    model = Model(cloud, b, BondBasedMaterial(70e9, 2700.0))
+    model = Evaluator(cloud, b, BondBasedMaterial(70e9, 2700.0))
     phi = model.point_damage(b.bond_intact)
     phi_ref = reference.damage(b.bond_i, b.bond_volume, b.bond_intact, cloud.n_points)
     np.testing.assert_allclose(phi, phi_ref, rtol=1e-12, atol=1e-15)
@@ -128,7 +128,7 @@ def test_rectangle_crack_cuts_exactly_crossing_bonds(name):
     assert np.array_equal(b.bond_intact == 0, expected)
     rev = b.reverse_index()
     assert np.array_equal(b.bond_intact, b.bond_intact[rev])
-    model = Model(cloud, b, BondBasedMaterial(70e9, 2700.0))
+    model = Evaluator(cloud, b, BondBasedMaterial(70e9, 2700.0))
     phi = model.point_damage(b.bond_intact)
     owners = np.bincount(b.bond_i, expected, cloud.n_points) > 0
     assert np.array_equal(phi > DAMAGED, owners)

@@ -398,7 +398,7 @@ def test_cuts_and_surface_correction_do_not_depend_on_the_range_size(monkeypatch
     same bits with ranges of one bond/row as with one range."""
     import peridynamics.bonds.bonds as bonds_module
     import peridynamics.bonds.precrack as precrack_module
-    from peridynamics import BondBasedMaterial, Model
+    from peridynamics import BondBasedMaterial, Evaluator
     from peridynamics.bonds import make_crack
 
     if dim == 2:
@@ -410,7 +410,7 @@ def test_cuts_and_surface_correction_do_not_depend_on_the_range_size(monkeypatch
 
     def built() -> tuple[np.ndarray, np.ndarray]:
         b = build_bonds(cloud, 3.015e-3, cracks=[crack])
-        m = Model(cloud, b, BondBasedMaterial(70e9, 2700.0), surface_correction=True)
+        m = Evaluator(cloud, b, BondBasedMaterial(70e9, 2700.0), surface_correction=True)
         return b.bond_intact, m.bonds.bond_correction
 
     intact, corr = built()  # k-d tree search (small cloud), one range

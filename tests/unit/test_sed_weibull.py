@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from peridynamics import BondBasedMaterial, Model, build_bonds
+from peridynamics import BondBasedMaterial, Evaluator, build_bonds
 from peridynamics.damage import CriticalStretch, SEDSoftening, WeibullField
 from peridynamics.geometry import rectangle
 from peridynamics.kernels import reference
@@ -20,7 +20,7 @@ E = 4.71e9
 def patch(surface_correction: bool = True, damage=None, softening=None):
     cloud = rectangle((0.02, 0.02), 5e-4, thickness=0.02)
     bonds = build_bonds(cloud, 3 * 5e-4)
-    model = Model(
+    model = Evaluator(
         cloud,
         bonds,
         BondBasedMaterial(E, 1810.0),
@@ -234,8 +234,8 @@ def test_explicit_micromodulus_option() -> None:
     cloud = rectangle((0.005, 0.005), 5e-4, thickness=t)
     bonds = build_bonds(cloud, delta)
     ratio = (
-        Model(cloud, bonds, mat).stiffness
-        / Model(cloud, bonds, BondBasedMaterial(E, 1810.0)).stiffness
+        Evaluator(cloud, bonds, mat).stiffness
+        / Evaluator(cloud, bonds, BondBasedMaterial(E, 1810.0)).stiffness
     )
     np.testing.assert_allclose(ratio, c3d / c2d, rtol=1e-12)
     with pytest.raises(ValueError, match="micromodulus"):

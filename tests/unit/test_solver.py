@@ -8,7 +8,7 @@ import re
 import numpy as np
 import pytest
 
-from peridynamics import BondBasedMaterial, ExplicitSolver, Model, State, build_bonds
+from peridynamics import BondBasedMaterial, ExplicitSolver, Evaluator, State, build_bonds
 from peridynamics.geometry import bar, rectangle
 from peridynamics.solvers import SimulationUnstable, UnstableTimeStep
 
@@ -18,7 +18,7 @@ DX = 1e-3
 
 def bar_model(horizon_ratio=1.0, rule="truncated"):
     cloud = bar(0.05, DX, area=1e-4)
-    return Model(
+    return Evaluator(
         cloud,
         build_bonds(cloud, horizon_ratio * DX, partial_volume=rule),
         BondBasedMaterial(E, RHO),
@@ -107,7 +107,7 @@ def test_velocity_verlet_and_central_difference_give_the_same_trajectory():
     """Both are the Stormer-Verlet scheme; with u(dt) = u0 + dt v0 + dt^2 a0 / 2 their
     displacements agree step by step (up to round-off)."""
     cloud = rectangle((0.01, 0.008), DX)
-    model = Model(cloud, build_bonds(cloud, 3.015 * DX), BondBasedMaterial(E, RHO))
+    model = Evaluator(cloud, build_bonds(cloud, 3.015 * DX), BondBasedMaterial(E, RHO))
     rng = np.random.default_rng(5)
     v0 = rng.normal(0.0, 0.5, cloud.x.shape)
     runs = []
@@ -127,7 +127,7 @@ def test_velocity_verlet_and_central_difference_give_the_same_trajectory():
 
 def test_restart_from_copied_state_is_bit_for_bit():
     cloud = rectangle((0.01, 0.008), DX)
-    model = Model(cloud, build_bonds(cloud, 3.015 * DX), BondBasedMaterial(E, RHO))
+    model = Evaluator(cloud, build_bonds(cloud, 3.015 * DX), BondBasedMaterial(E, RHO))
     solver = ExplicitSolver(model)
     s = solver.init()
     s.v[:] = np.random.default_rng(1).normal(0.0, 0.5, s.v.shape)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from peridynamics import BondBasedMaterial, Model, build_bonds
+from peridynamics import BondBasedMaterial, Evaluator, build_bonds
 from peridynamics.geometry import bar, rectangle
 from peridynamics.loading import PrescribedDisplacement, PrescribedVelocity, Ramp
 from peridynamics.solvers import ExplicitSolver, SimulationUnstable
@@ -13,7 +13,7 @@ from peridynamics.solvers import ExplicitSolver, SimulationUnstable
 
 def _bar_model():
     cloud = bar(0.1, 1e-3, area=1e-4)
-    return Model(cloud, build_bonds(cloud, 3.015e-3), BondBasedMaterial(70e9, 2700.0))
+    return Evaluator(cloud, build_bonds(cloud, 3.015e-3), BondBasedMaterial(70e9, 2700.0))
 
 
 @pytest.mark.parametrize("integrator", ["velocity_verlet", "central_difference"])
@@ -60,7 +60,7 @@ def test_last_good_state_is_a_consistent_snapshot() -> None:
     cloud = rectangle((0.01, 0.01), 1e-3)
     from peridynamics.damage import CriticalStretch
 
-    model = Model(
+    model = Evaluator(
         cloud, build_bonds(cloud, 3.015e-3), BondBasedMaterial(70e9, 2700.0), CriticalStretch(1e-4)
     )
     solver = ExplicitSolver(model, check_every=5)

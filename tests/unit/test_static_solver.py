@@ -29,7 +29,7 @@ from peridynamics.bonds.precrack import make_crack
 from peridynamics.build.errors import SetupError
 from peridynamics.damage.critical_stretch import CriticalStretch
 from peridynamics.deck import DeckError, parse_deck
-from peridynamics.evaluation import Model
+from peridynamics.evaluation import Evaluator
 from peridynamics.families.lps.material import LPSMaterial
 from peridynamics.families.micropolar.material import MicropolarMaterial
 from peridynamics.families.pmb.material import BondBasedMaterial
@@ -72,7 +72,7 @@ def _rel(a: np.ndarray, b: np.ndarray) -> float:
 CL_DX, CL_L, CL_H, CL_P = 0.01, 0.4, 0.1, -1000.0  # m, m, m, N (downward end shear)
 
 
-def _cantilever() -> tuple[Model, np.ndarray, np.ndarray]:
+def _cantilever() -> tuple[Evaluator, np.ndarray, np.ndarray]:
     """0.4 m x 0.1 m, thickness 1 m, plane stress; a fictitious clamped layer of 3
     columns at x < 0; the end shear P as a body force on the last column."""
     dx = CL_DX
@@ -82,7 +82,7 @@ def _cantilever() -> tuple[Model, np.ndarray, np.ndarray]:
     tip = np.flatnonzero(x[:, 0] > CL_L - dx)
     b = CL_P / cloud.volume[tip].sum()
     bonds = build_bonds(cloud, 3.015 * dx, partial_volume="truncated")
-    model = Model(
+    model = Evaluator(
         cloud,
         bonds,
         MicropolarMaterial(E_STEEL, NU, RHO_STEEL),
@@ -94,7 +94,7 @@ def _cantilever() -> tuple[Model, np.ndarray, np.ndarray]:
 
 
 @pytest.fixture(scope="module")
-def cantilever_direct() -> tuple[Model, np.ndarray, np.ndarray, Any, dict]:
+def cantilever_direct() -> tuple[Evaluator, np.ndarray, np.ndarray, Any, dict]:
     model, clamp, tip = _cantilever()
     solver = StaticSolver(model, [Fixed(clamp)], load_steps=1, linear_solver="direct")
     s, results = _run(solver)
@@ -161,9 +161,9 @@ def test_cantilever_iterative_solver_matches_direct(cantilever_direct) -> None:
 PL_DX = 1e-3
 
 
-def _plate(material: Any, nx: int, ny: int) -> tuple[Model, np.ndarray, np.ndarray, float]:
+def _plate(material: Any, nx: int, ny: int) -> tuple[Evaluator, np.ndarray, np.ndarray, float]:
     cloud = rectangle((nx * PL_DX, ny * PL_DX), PL_DX)
-    model = Model(cloud, build_bonds(cloud, 3.015 * PL_DX), material, surface_correction=True)
+    model = Evaluator(cloud, build_bonds(cloud, 3.015 * PL_DX), material, surface_correction=True)
     x = cloud.x
     left = np.flatnonzero(x[:, 0] < PL_DX)
     right = np.flatnonzero(x[:, 0] > (nx - 1) * PL_DX)
@@ -194,7 +194,7 @@ def test_pmb_matches_the_linear_solver_at_small_strain_and_newton_converges() ->
 
 
 # ------------------------------------------------------------------------ 4. LPS plate
-def _lps_stretch(model: Model, left: np.ndarray, right: np.ndarray, gauge: float) -> Any:
+def _lps_stretch(model: Evaluator, left: np.ndarray, right: np.ndarray, gauge: float) -> Any:
     strain = 1e-3
     bc = [
         Fixed(left, ("x",)),
@@ -238,7 +238,7 @@ DCB_DX, DCB_L, DCB_D = 1e-3, 0.06, 1e-5  # m; opening +-d on the load column
 DCB_S0 = 1.6e-4
 
 
-def _dcb(s0: float = DCB_S0) -> tuple[Model, list]:
+def _dcb(s0: float = DCB_S0) -> tuple[Evaluator, list]:
     """60 x 20 points (+ 3 clamped columns at x > L), crack from the left edge along
     the mid-line to 0.4 L, opening +-d on the left column of each arm."""
     dx = DCB_DX
@@ -249,7 +249,7 @@ def _dcb(s0: float = DCB_S0) -> tuple[Model, list]:
     clamp = np.flatnonzero(x[:, 0] > DCB_L)
     left = np.flatnonzero(x[:, 0] < dx)
     top, bottom = left[x[left, 1] > 0.0], left[x[left, 1] < 0.0]
-    model = Model(
+    model = Evaluator(
         cloud,
         bonds,
         MicropolarMaterial(E_STEEL, NU, RHO_STEEL),
@@ -264,7 +264,7 @@ def _dcb(s0: float = DCB_S0) -> tuple[Model, list]:
     return model, bc
 
 
-def _ratios(model: Model, s: Any) -> tuple[np.ndarray, np.ndarray]:
+def _ratios(model: Evaluator, s: Any) -> tuple[np.ndarray, np.ndarray]:
     """(pair representatives i < j that can break, their l / l_c with 0 if broken),
     recomputed from the displacement."""
     b = model.bonds
@@ -436,7 +436,7 @@ def test_unconstrained_body_ends_cleanly_with_a_singular_stiffness(material: str
         if material == "pmb"
         else MicropolarMaterial(E_STEEL, NU, RHO_STEEL)
     )
-    model = Model(
+    model = Evaluator(
         cloud,
         build_bonds(cloud, 3.015 * PL_DX),
         mat,

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from peridynamics import BondBasedMaterial, Model, build_bonds
+from peridynamics import BondBasedMaterial, Evaluator, build_bonds
 from peridynamics.geometry import PointCloud, box, rectangle
 
 E, RHO = 70e9, 2700.0
@@ -48,7 +48,7 @@ def test_correction_factors_match_independent_recomputation(dim, profile):
     )
     bonds = build_bonds(cloud, 3.015e-3)
     mat = BondBasedMaterial(E, RHO, profile=profile)
-    model = Model(cloud, bonds, mat, surface_correction=True)
+    model = Evaluator(cloud, bonds, mat, surface_correction=True)
     raw = mat.bond_stiffness(cloud, bonds, corrected=False)
     w_inf = mat.uniaxial_energy_density(1e-3, dim, bonds.horizon, cloud.cross_section, cloud.plane)
     mine = my_factors(cloud, bonds, raw, w_inf)
@@ -64,7 +64,7 @@ def test_interior_factor_is_continuum_over_lattice_energy():
     """Deep inside a regular grid every lambda is W_inf / W_lattice, so is every G."""
     cloud = rectangle((0.03, 0.03), 1e-3)
     bonds = build_bonds(cloud, 3.015e-3)
-    model = Model(cloud, bonds, BondBasedMaterial(E, RHO), surface_correction=True)
+    model = Evaluator(cloud, bonds, BondBasedMaterial(E, RHO), surface_correction=True)
     # lattice sum of beta * cos^4 * r (units of dx) vs its continuum (3 pi / 4) m^3 / 3
     m, lattice = 3.015, 0.0
     for a in range(-4, 5):

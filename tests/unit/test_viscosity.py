@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from peridynamics import BondBasedMaterial, Model, build_bonds
+from peridynamics import BondBasedMaterial, Evaluator, build_bonds
 from peridynamics.families.viscosity import BondViscosity, horizon_volume
 from peridynamics.geometry import bar, box, rectangle
 from peridynamics.kernels import reference
@@ -27,7 +27,7 @@ def make(dim: int, viscosity: BondViscosity | None, seed: int = 0):
     else:
         cloud = box((0.006, 0.005, 0.004), dx)
     bonds = build_bonds(cloud, 3.015 * dx, "truncated")
-    model = Model(cloud, bonds, BondBasedMaterial(E, RHO), viscosity=viscosity)
+    model = Evaluator(cloud, bonds, BondBasedMaterial(E, RHO), viscosity=viscosity)
     rng = np.random.default_rng(seed)
     u = rng.normal(size=cloud.x.shape) * 1e-6
     v = rng.normal(size=cloud.x.shape) * 1.0

@@ -11,7 +11,7 @@ import pytest
 
 pytest.importorskip("warp", reason="warp-lang not installed (pip install '.[gpu]')")
 
-from peridynamics import BondBasedMaterial, Model, PointCloud, build_bonds  # noqa: E402
+from peridynamics import BondBasedMaterial, Evaluator, PointCloud, build_bonds  # noqa: E402
 from peridynamics.backends.warp_device import DeviceModel, DeviceState  # noqa: E402
 from peridynamics.backends.warp_short_range_contact import DeviceContact, supports  # noqa: E402
 from peridynamics.evaluation.short_range_contact import ShortRangeContact  # noqa: E402
@@ -47,7 +47,7 @@ class Pair:
 
     def __init__(self, cloud, bonds, contact, rho=None):
         self.contact = contact
-        self.model = Model(cloud, bonds, BondBasedMaterial(70e9, 2700.0), contact=contact)
+        self.model = Evaluator(cloud, bonds, BondBasedMaterial(70e9, 2700.0), contact=contact)
         if rho is not None:
             self.model.density[:] = rho
         self.dm = DeviceModel(self.model, "cpu")
@@ -217,7 +217,7 @@ def test_far_away_point_and_non_finite_displacements(far: float) -> None:
 def test_supports() -> None:
     cloud = plate(2)
     bonds = build_bonds(cloud, 1.5 * DX, "truncated")
-    model = Model(cloud, bonds, BondBasedMaterial(70e9, 2700.0))
+    model = Evaluator(cloud, bonds, BondBasedMaterial(70e9, 2700.0))
     assert supports(model) is None
     model.contact = object()
     assert "contact" in supports(model)

@@ -19,7 +19,7 @@ from peridynamics.backends.warp_device import DeviceModel, DeviceState  # noqa: 
 from peridynamics.bonds.bonds import build_bonds  # noqa: E402
 from peridynamics.damage.critical_stretch import CriticalStretch  # noqa: E402
 from peridynamics.damage.principal_stress import CorrespondenceFailure  # noqa: E402
-from peridynamics.evaluation import Model  # noqa: E402
+from peridynamics.evaluation import Evaluator  # noqa: E402
 from peridynamics.families.correspondence.force import DEGENERATE_RATIO  # noqa: E402
 from peridynamics.families.correspondence.material import CorrespondenceMaterial  # noqa: E402
 from peridynamics.geometry.generators import box, rectangle  # noqa: E402
@@ -37,15 +37,15 @@ def _geometry(dim: int):
     return cloud, build_bonds(cloud, 2.015 * DX)
 
 
-def _model(dim: int, stab: str, law: str = "st_venant_kirchhoff", damage=None) -> Model:
+def _model(dim: int, stab: str, law: str = "st_venant_kirchhoff", damage=None) -> Evaluator:
     cloud, bonds = _geometry(dim)
     mat = CorrespondenceMaterial(70e9, 0.3, 2700.0, stab, law=law)
     if damage is None:
-        return Model(cloud, bonds, mat)
-    return Model(cloud, bonds, mat, damage=damage)
+        return Evaluator(cloud, bonds, mat)
+    return Evaluator(cloud, bonds, mat, damage=damage)
 
 
-def _cut(m: Model, rng: np.random.Generator, frac: float, degenerate: int | None) -> np.ndarray:
+def _cut(m: Evaluator, rng: np.random.Generator, frac: float, degenerate: int | None) -> np.ndarray:
     """Intact flags with ``frac`` of the bonds cut (both directions) and, optionally,
     every bond of point ``degenerate`` cut but those along x (a singular K)."""
     b = m.bonds
@@ -60,14 +60,14 @@ def _cut(m: Model, rng: np.random.Generator, frac: float, degenerate: int | None
     return intact
 
 
-def _state(m: Model, u: np.ndarray, intact: np.ndarray):
+def _state(m: Evaluator, u: np.ndarray, intact: np.ndarray):
     s = m.new_state()
     s.u[...] = u
     s.intact[...] = intact
     return s
 
 
-def _on_device(m: Model, s):
+def _on_device(m: Evaluator, s):
     dm = DeviceModel(m, "cpu")
     ds = DeviceState(dm, s)
     return dm, ds, DeviceCorrespondence(m, dm)
@@ -81,7 +81,7 @@ def _rel(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.abs(a - b).max() / scale)
 
 
-def _twin_force(m: Model, u: np.ndarray, intact: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _twin_force(m: Evaluator, u: np.ndarray, intact: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Force and F from the NumPy twins and the law's NumPy interface."""
     fm = m.force_model
     b = fm.bonds
@@ -155,12 +155,12 @@ def test_state_without_fields_uses_work_arrays(dim: int, stab: str) -> None:
     assert _rel(fam.fgrad.numpy(), host["deformation_gradient"]) <= 1e-12
 
 
-def _broken_per_point(m: Model, before: np.ndarray, after: np.ndarray) -> np.ndarray:
+def _broken_per_point(m: Evaluator, before: np.ndarray, after: np.ndarray) -> np.ndarray:
     gone = (before.astype(bool) & ~after.astype(bool)).astype(np.int64)
     return np.bincount(m.bonds.bond_i, gone, minlength=m.n_points)
 
 
-def _commit_both(m: Model, u: np.ndarray, intact: np.ndarray):
+def _commit_both(m: Evaluator, u: np.ndarray, intact: np.ndarray):
     host = _state(m, u, intact)
     _, ds, fam = _on_device(m, host)
     n_host = m.evaluate(host, commit=True)
@@ -192,7 +192,7 @@ def test_commit_critical_stretch(dim: int, stab: str) -> None:
     np.testing.assert_array_equal(ds2.intact.numpy(), before)
 
 
-def _criteria_only(m: Model, u: np.ndarray, before: np.ndarray) -> np.ndarray:
+def _criteria_only(m: Evaluator, u: np.ndarray, before: np.ndarray) -> np.ndarray:
     """Bonds that the stretch and stress criteria alone break (no degenerate rounds)."""
     law = m.damage_law
     b = m.bonds
@@ -240,7 +240,7 @@ def test_commit_principal_stress_failure(dim: int, stab: str, s0: float) -> None
     assert _rel(_device_s1(m, u, before), s1_host) <= 1e-12
 
 
-def _device_s1(m: Model, u: np.ndarray, intact: np.ndarray) -> np.ndarray:
+def _device_s1(m: Evaluator, u: np.ndarray, intact: np.ndarray) -> np.ndarray:
     """The largest principal Cauchy stress that the device pre-pass computes."""
     _, ds, fam = _on_device(m, _state(m, u, intact))
     fam.prepass(ds, want_stress=True)
@@ -251,7 +251,7 @@ def test_supports_rejects_other_models_and_laws() -> None:
     from peridynamics.families.lps.material import LPSMaterial
 
     cloud, bonds = _geometry(2)
-    lps = Model(cloud, bonds, LPSMaterial(70e9, 0.3, 2700.0, "constant"))
+    lps = Evaluator(cloud, bonds, LPSMaterial(70e9, 0.3, 2700.0, "constant"))
     why = supports(lps)
     assert why is not None and why.startswith("material.model")
     with pytest.raises(ValueError, match="material.model"):

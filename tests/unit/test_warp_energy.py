@@ -11,7 +11,7 @@ import pytest
 
 wp = pytest.importorskip("warp", reason="warp-lang not installed (pip install '.[gpu]')")
 
-from peridynamics import BondBasedMaterial, Model, build_bonds  # noqa: E402
+from peridynamics import BondBasedMaterial, Evaluator, build_bonds  # noqa: E402
 from peridynamics.backends._warp_dsl import _pmb_force_break  # noqa: E402
 from peridynamics.backends.warp_device import DeviceModel, DeviceState, to_device  # noqa: E402
 from peridynamics.backends.warp_energy import DeviceEnergy, supports  # noqa: E402
@@ -38,7 +38,7 @@ def _rel(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.abs(a - b).max() / scale)
 
 
-def _cut(model: Model, rng: np.random.Generator, frac: float) -> np.ndarray:
+def _cut(model: Evaluator, rng: np.random.Generator, frac: float) -> np.ndarray:
     """The reference flags with ``frac`` of the bonds cut, both directions."""
     b = model.bonds
     intact = b.bond_intact.copy()
@@ -48,21 +48,21 @@ def _cut(model: Model, rng: np.random.Generator, frac: float) -> np.ndarray:
     return intact
 
 
-def _state(model: Model, u: np.ndarray, intact: np.ndarray):
+def _state(model: Evaluator, u: np.ndarray, intact: np.ndarray):
     s = model.new_state()
     s.u[...] = u
     s.intact[...] = intact
     return s
 
 
-def _device_w(model: Model, host, **kw) -> tuple[np.ndarray, DeviceEnergy, DeviceState]:
+def _device_w(model: Evaluator, host, **kw) -> tuple[np.ndarray, DeviceEnergy, DeviceState]:
     dm = DeviceModel(model, DEVICE)
     ds = DeviceState(dm, host)
     en = DeviceEnergy(model, dm, **kw)
     return en.strain_energy_density(ds).numpy(), en, ds
 
 
-def _check_intact_matters(model: Model, w: np.ndarray, u: np.ndarray, intact: np.ndarray):
+def _check_intact_matters(model: Evaluator, w: np.ndarray, u: np.ndarray, intact: np.ndarray):
     """With every bond intact the device gives other values: the flags are read."""
     whole, _, _ = _device_w(model, _state(model, u, model.bonds.bond_intact))
     assert (intact == 0).any()
@@ -70,7 +70,7 @@ def _check_intact_matters(model: Model, w: np.ndarray, u: np.ndarray, intact: np
 
 
 # ---------------------------------------------------------------------------------- PMB
-def _pmb_model(dim: int, corr: bool) -> Model:
+def _pmb_model(dim: int, corr: bool) -> Evaluator:
     if dim == 1:
         cloud = bar(0.03, DX, area=1e-4)
     elif dim == 2:
@@ -78,7 +78,7 @@ def _pmb_model(dim: int, corr: bool) -> Model:
     else:
         cloud = box((0.007, 0.006, 0.005), DX, jitter=0.15, seed=2)
     bonds = build_bonds(cloud, 3.015 * DX)
-    return Model(cloud, bonds, BondBasedMaterial(70e9, 2700.0), surface_correction=corr)
+    return Evaluator(cloud, bonds, BondBasedMaterial(70e9, 2700.0), surface_correction=corr)
 
 
 @pytest.mark.parametrize(("dim", "corr"), [(1, False), (2, True), (2, False), (3, True)])
@@ -127,7 +127,7 @@ def test_pmb_sed_softened_stiffness_follows_host() -> None:
     dx = 5e-4
     cloud = rectangle((0.010, 0.008), dx, thickness=2e-3)
     soft = SEDSoftening(levels=6, k_c=3.0, residual=0.05, threshold_stretch=1e-3)
-    model = Model(
+    model = Evaluator(
         cloud, build_bonds(cloud, 3 * dx), BondBasedMaterial(4.71e9, 1810.0),
         CriticalStretch(0.00318), surface_correction=True, softening=soft,
     )  # fmt: skip
@@ -167,13 +167,13 @@ def test_pmb_sed_softened_stiffness_follows_host() -> None:
 
 
 # ---------------------------------------------------------------------------------- LPS
-def _lps_model(dim: int, corr: bool, influence: str) -> Model:
+def _lps_model(dim: int, corr: bool, influence: str) -> Evaluator:
     if dim == 2:
         c = rectangle((0.020, 0.015), DX, thickness=1e-3, jitter=0.15, seed=dim)
     else:
         c = box((0.007, 0.006, 0.005), DX, jitter=0.15, seed=dim)
     mat = LPSMaterial(2.0e9, 0.3, 1500.0, influence=influence)
-    return Model(c, build_bonds(c, 3.015 * DX), mat, surface_correction=corr)
+    return Evaluator(c, build_bonds(c, 3.015 * DX), mat, surface_correction=corr)
 
 
 @pytest.mark.parametrize(
@@ -205,17 +205,17 @@ def test_lps_matches_numba_and_numpy(dim: int, corr: bool, influence: str) -> No
 
 
 # ------------------------------------------------------------------------ correspondence
-def _corr_model(dim: int, stab: str, law: str) -> Model:
+def _corr_model(dim: int, stab: str, law: str) -> Evaluator:
     if dim == 2:
         cloud = rectangle((20 * DX, 15 * DX), DX, thickness=1e-3, plane="stress")
         bonds = build_bonds(cloud, 3.015 * DX)
     else:
         cloud = box((8 * DX, 7 * DX, 6 * DX), DX)
         bonds = build_bonds(cloud, 2.015 * DX)
-    return Model(cloud, bonds, CorrespondenceMaterial(70e9, 0.3, 2700.0, stab, law=law))
+    return Evaluator(cloud, bonds, CorrespondenceMaterial(70e9, 0.3, 2700.0, stab, law=law))
 
 
-def _corr_twin(model: Model, u: np.ndarray, intact: np.ndarray) -> np.ndarray:
+def _corr_twin(model: Evaluator, u: np.ndarray, intact: np.ndarray) -> np.ndarray:
     fm = model.force_model
     b = fm.bonds
     _, fgrad, _, omega0, active = ref_corr.prepass(
@@ -272,7 +272,7 @@ def test_correspondence_matches_host_and_numpy(dim: int, stab: str, law: str) ->
 
 # ------------------------------------------------------------------------------ supports
 def test_supports_and_refusals() -> None:
-    soft = Model(
+    soft = Evaluator(
         bar(0.01, DX, area=1e-4), build_bonds(bar(0.01, DX, area=1e-4), 3.015 * DX),
         BondBasedMaterial(70e9, 2700.0), SofteningBonds("bilinear", 30e6, 50.0),
     )  # fmt: skip

@@ -7,7 +7,7 @@ import pytest
 
 wp = pytest.importorskip("warp", reason="warp-lang not installed (pip install '.[gpu]')")
 
-from peridynamics import BondBasedMaterial, Model, build_bonds  # noqa: E402
+from peridynamics import BondBasedMaterial, Evaluator, build_bonds  # noqa: E402
 from peridynamics.backends._warp_dsl import _pmb_force_break  # noqa: E402
 from peridynamics.backends.warp_device import DeviceModel, DeviceState, to_device  # noqa: E402
 from peridynamics.backends.warp_extras import DeviceSED, DeviceViscosity, supports  # noqa: E402
@@ -39,7 +39,7 @@ def test_device_viscosity_matches_numba_and_numpy(dim: int) -> None:
     dx = 1e-3 if dim < 3 else 5e-4
     cloud = _cloud(dim, dx)
     bonds = build_bonds(cloud, 3.015 * dx, "truncated")
-    model = Model(cloud, bonds, BondBasedMaterial(E, RHO), viscosity=BondViscosity(0.5, 2.0))
+    model = Evaluator(cloud, bonds, BondBasedMaterial(E, RHO), viscosity=BondViscosity(0.5, 2.0))
     assert supports(model) is None
     rng = np.random.default_rng(dim)
     b = model.bonds
@@ -87,7 +87,7 @@ def _sed_model(dim: int, energy: str):
     cloud = _cloud(dim, dx)
     bonds = build_bonds(cloud, 3 * dx)
     soft = SEDSoftening(levels=6, k_c=3.0, residual=0.05, threshold_stretch=1e-3, energy=energy)
-    model = Model(
+    model = Evaluator(
         cloud, bonds, BondBasedMaterial(4.71e9, 1810.0), CriticalStretch(0.00318),
         surface_correction=True, softening=soft,
     )  # fmt: skip
@@ -188,5 +188,5 @@ def test_supports_names_the_deck_key() -> None:
     model.force_model.set_precision("float32")
     why = supports(model)
     assert why is not None and why.startswith("solver.precision")
-    plain = Model(_cloud(2, 1e-3), build_bonds(_cloud(2, 1e-3), 3e-3), BondBasedMaterial(E, RHO))
+    plain = Evaluator(_cloud(2, 1e-3), build_bonds(_cloud(2, 1e-3), 3e-3), BondBasedMaterial(E, RHO))
     assert supports(plain) is None

@@ -1,5 +1,5 @@
 """The LPS family of the Warp backend (DeviceLPS) on Warp's CPU device against the host
-evaluation (Numba kernels, Model.evaluate) and the NumPy twins: forces and dilatation to
+evaluation (Numba kernels, Evaluator.evaluate) and the NumPy twins: forces and dilatation to
 1e-12 relative, the same bonds broken with the same per-point counts."""
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from peridynamics.backends.warp_device import DeviceModel, DeviceState  # noqa: 
 from peridynamics.backends.warp_lps import DeviceLPS, supports  # noqa: E402
 from peridynamics.bonds import build_bonds  # noqa: E402
 from peridynamics.damage.critical_stretch import NO_DAMAGE, CriticalStretch  # noqa: E402
-from peridynamics.evaluation import Model  # noqa: E402
+from peridynamics.evaluation import Evaluator  # noqa: E402
 from peridynamics.families.lps.material import LPSMaterial  # noqa: E402
 from peridynamics.families.pmb.material import BondBasedMaterial  # noqa: E402
 from peridynamics.geometry import box, rectangle  # noqa: E402
@@ -34,7 +34,7 @@ def lps_model(dim, surface_correction, influence="constant", damage=NO_DAMAGE, s
         c = box((0.010, 0.008, 0.006), DX, jitter=0.15, seed=seed)
     b = build_bonds(c, 3.015 * DX)
     mat = LPSMaterial(2.0e9, 0.3, 1500.0, influence=influence)
-    return Model(c, b, mat, damage=damage, surface_correction=surface_correction)
+    return Evaluator(c, b, mat, damage=damage, surface_correction=surface_correction)
 
 
 def copy_state(st: State) -> State:
@@ -158,5 +158,5 @@ def test_unsupported_models_name_the_deck_key():
     with pytest.raises(ValueError, match=r"damage\.model.*critical stretch for LPS"):
         DeviceLPS(other_law, dm)
     c = rectangle((0.01, 0.01), DX, thickness=1e-3)
-    pmb = Model(c, build_bonds(c, 3.015 * DX), BondBasedMaterial(2.0e9, 1500.0))
+    pmb = Evaluator(c, build_bonds(c, 3.015 * DX), BondBasedMaterial(2.0e9, 1500.0))
     assert supports(pmb).startswith("material.model")

@@ -22,7 +22,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import NDArray
 
-from peridynamics import BondBasedMaterial, CriticalStretch, Model, build_bonds
+from peridynamics import BondBasedMaterial, CriticalStretch, Evaluator, build_bonds
 from peridynamics.bonds.precrack import make_crack
 from peridynamics.geometry import rectangle
 from peridynamics.loading import Fixed, PrescribedDisplacement, traction_as_body_force
@@ -46,7 +46,7 @@ def _one_thread() -> Iterator[None]:
 
 def _plate(
     material: object, traction: float = 0.0, **kw: Any
-) -> tuple[Model, list[Kinematic], NDArray[np.intp]]:
+) -> tuple[Evaluator, list[Kinematic], NDArray[np.intp]]:
     """20 x 10 plate (plane stress): left column fixed in x, its middle point in y, the
     right column loaded by a traction (Pa) spread as a body force."""
     cloud = rectangle((NX * DX, NY * DX), DX)
@@ -55,13 +55,13 @@ def _plate(
     right = np.flatnonzero(x[:, 0] > (NX - 1) * DX)
     pin = left[np.argmin(np.abs(x[left, 1] - NY * DX / 2))]
     body = [traction_as_body_force(right, np.array([traction, 0.0]), x, DX)] if traction else []
-    model = Model(cloud, build_bonds(cloud, 3.015 * DX), material, body_forces=body, **kw)
+    model = Evaluator(cloud, build_bonds(cloud, 3.015 * DX), material, body_forces=body, **kw)
     bc: list[Kinematic] = [Fixed(left, ("x",)), Fixed(np.array([pin]), ("y",))]
     return model, bc, right
 
 
 def _newton(
-    model: Model,
+    model: Evaluator,
     free: NDArray[np.bool_],
     target: NDArray[np.float64],
     tangent: Callable[[State], sp.csr_matrix] | None = None,
@@ -93,7 +93,7 @@ def _newton(
 
 
 def _adr(
-    model: Model, constraints: list[Kinematic], **kw: Any
+    model: Evaluator, constraints: list[Kinematic], **kw: Any
 ) -> tuple[ADRSolver, State, dict[str, Any]]:
     solver = ADRSolver(model, constraints, **kw)
     s = solver.init()
@@ -171,7 +171,7 @@ def test_lps_plate_in_tension_matches_newton() -> None:
           f"relative difference to Newton {diff:.2e}")  # fmt: skip
 
 
-def _notched_plate(s0: float) -> tuple[Model, list[Kinematic], NDArray[np.intp]]:
+def _notched_plate(s0: float) -> tuple[Evaluator, list[Kinematic], NDArray[np.intp]]:
     """30 x 15 plate with an edge notch of a third of its height at mid-length, left
     three columns fixed in x (one point in y), right three columns pulled in x."""
     nx, ny = 30, 15
@@ -183,7 +183,7 @@ def _notched_plate(s0: float) -> tuple[Model, list[Kinematic], NDArray[np.intp]]
     left = np.flatnonzero(x[:, 0] < 3 * DX)
     right = np.flatnonzero(x[:, 0] > length - 3 * DX)
     pin = left[np.argmin(np.hypot(x[left, 0], x[left, 1] - height / 2))]
-    model = Model(cloud, bonds, BondBasedMaterial(E, RHO), CriticalStretch(s0))
+    model = Evaluator(cloud, bonds, BondBasedMaterial(E, RHO), CriticalStretch(s0))
     u_max = 2.0 * s0 * length  # nominal strain 2 s0 at the end
     bc: list[Kinematic] = [
         Fixed(left, ("x",)),

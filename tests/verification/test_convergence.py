@@ -14,14 +14,14 @@ import numpy as np
 import pytest
 
 from peridynamics.bonds import build_bonds
-from peridynamics.evaluation import Model
+from peridynamics.evaluation import Evaluator
 from peridynamics.families.pmb import BondBasedMaterial
 from peridynamics.geometry import bar, rectangle
 
 E = 70e9
 
 
-def _force(model: Model, u: np.ndarray) -> np.ndarray:
+def _force(model: Evaluator, u: np.ndarray) -> np.ndarray:
     f = np.zeros_like(u)
     model.internal_force(u, model.bonds.bond_intact.copy(), f, np.zeros(model.n_points))
     return f
@@ -30,7 +30,7 @@ def _force(model: Model, u: np.ndarray) -> np.ndarray:
 def _error_1d(dx: float, m: int = 3) -> float:
     k = 2 * np.pi / 0.25
     cloud = bar(1.0, dx)
-    model = Model(cloud, build_bonds(cloud, m * dx), BondBasedMaterial(E, 2700.0))
+    model = Evaluator(cloud, build_bonds(cloud, m * dx), BondBasedMaterial(E, 2700.0))
     x = cloud.x[:, 0]
     f = _force(model, (1e-9 * np.sin(k * x))[:, None])[:, 0]
     exact = -E * 1e-9 * k * k * np.sin(k * x)
@@ -41,7 +41,7 @@ def _error_1d(dx: float, m: int = 3) -> float:
 def _error_2d(dx: float, corrected: bool = True) -> tuple[float, float]:
     k, size, m = 2 * np.pi / 0.02, (0.04, 0.02), 3.015
     cloud = rectangle(size, dx)
-    model = Model(
+    model = Evaluator(
         cloud,
         build_bonds(cloud, m * dx),
         BondBasedMaterial(E, 2700.0),

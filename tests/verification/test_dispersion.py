@@ -12,7 +12,7 @@ import pytest
 
 from peridynamics.analysis import dispersion as dsp
 from peridynamics.bonds import build_bonds
-from peridynamics.evaluation import Model
+from peridynamics.evaluation import Evaluator
 from peridynamics.families.pmb import BondBasedMaterial
 from peridynamics.geometry import bar, rectangle
 from peridynamics.solvers import ExplicitSolver
@@ -87,9 +87,9 @@ def test_m1_equals_central_difference_fdm_exactly() -> None:
 
 
 # ------------------------------------------------ Bloch waves from the engine's bonds
-def _bar_model(dx: float, horizon: float, rule: str) -> Model:
+def _bar_model(dx: float, horizon: float, rule: str) -> Evaluator:
     cloud = bar(201 * dx, dx, area=1e-4)
-    return Model(cloud, build_bonds(cloud, horizon, rule), BondBasedMaterial(E, RHO))
+    return Evaluator(cloud, build_bonds(cloud, horizon, rule), BondBasedMaterial(E, RHO))
 
 
 def test_bloch_1d_equals_seed003_closed_form() -> None:
@@ -119,7 +119,7 @@ def test_bloch_1d_truncated_equals_seed000_stencil(m: int) -> None:
 def test_bloch_2d_equals_seed003_eq32(theta: float) -> None:
     h = 1e-3
     cloud = rectangle((21 * h, 21 * h), h, thickness=2e-3)
-    model = Model(cloud, build_bonds(cloud, 3.015 * h, "none"), BondBasedMaterial(E, RHO))
+    model = Evaluator(cloud, build_bonds(cloud, 3.015 * h, "none"), BondBasedMaterial(E, RHO))
     centre = int(np.argmin(np.sum((cloud.x - 10.5 * h) ** 2, axis=1)))
     nh = np.linspace(0.01, 2.0, 200)
     b = np.array([math.cos(math.radians(theta)), math.sin(math.radians(theta))])

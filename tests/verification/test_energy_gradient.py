@@ -1,6 +1,6 @@
 """Force is minus the gradient of the strain energy: V_i f_i == -dE/du_i.
 
-E(u) = sum_i W_i(u) V_i from Model.strain_energy; f from Model.internal_force; the
+E(u) = sum_i W_i(u) V_i from Evaluator.strain_energy; f from Evaluator.internal_force; the
 derivative by central differences. Checked on irregular clouds (jittered positions,
 random volumes), with and without surface correction, constant and conical profiles.
 """
@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from peridynamics import BondBasedMaterial, Model, build_bonds
+from peridynamics import BondBasedMaterial, Evaluator, build_bonds
 from peridynamics.geometry import PointCloud, bar, box, rectangle
 
 DX = 1e-3
@@ -34,7 +34,7 @@ def test_internal_forces_sum_to_zero_and_have_no_torque():
     """Pairwise central forces: sum V_i f_i = 0 and sum y_i x V_i f_i = 0 (2-D)."""
     cloud = irregular_cloud(2, seed=9)
     bonds = build_bonds(cloud, 3.015 * DX)
-    model = Model(
+    model = Evaluator(
         cloud, bonds, BondBasedMaterial(70e9, 2700.0, profile="conical"), surface_correction=True
     )
     u = np.random.default_rng(1).normal(0.0, 0.05 * DX, cloud.x.shape)

@@ -7,7 +7,7 @@ import pytest
 
 from peridynamics.bonds import build_bonds
 from peridynamics.damage import CriticalStretch
-from peridynamics.evaluation import Model
+from peridynamics.evaluation import Evaluator
 from peridynamics.families.pmb import BondBasedMaterial
 from peridynamics.geometry import bar
 from peridynamics.loading import TriangularPulse, traction_as_body_force
@@ -28,7 +28,7 @@ def _pulse_bar(peak: float = 8.9e6):
 
 def test_pd_with_delta_dx_equals_fdm_to_1e12() -> None:
     cloud, mat, load = _pulse_bar()
-    pd = Model(cloud, build_bonds(cloud, DX, "truncated"), mat, body_forces=[load])
+    pd = Evaluator(cloud, build_bonds(cloud, DX, "truncated"), mat, body_forces=[load])
     fd = FDMModel1D(cloud, mat, [load])
     runs = []
     for model in (pd, fd):
@@ -48,7 +48,7 @@ def test_pd_with_delta_dx_equals_fdm_to_1e12() -> None:
 @pytest.mark.parametrize("m", [1, 2, 3, 5])
 def test_section_stress_of_a_uniform_strain_is_e_eps(m: int) -> None:
     cloud = bar(1.0, DX, area=2.5e-3, nodes_on_boundary=True)
-    model = Model(cloud, build_bonds(cloud, m * DX, "truncated"), BondBasedMaterial(E, RHO))
+    model = Evaluator(cloud, build_bonds(cloud, m * DX, "truncated"), BondBasedMaterial(E, RHO))
     u = 1e-4 * cloud.x  # uniform strain 1e-4
     for pos in (0.3 + DX / 2, 0.5 + 0.3 * DX, 0.77 + DX / 2):
         sigma = model.section_stress(u, model.bonds.bond_intact, pos)
@@ -71,11 +71,11 @@ def test_fdm_refuses_non_uniform_or_higher_dimensional_grids() -> None:
 def test_hybrid_switches_at_the_stretch_and_transfers_exactly(first_kind: str) -> None:
     cloud, mat, load = _pulse_bar(peak=25e6)
     s0 = 9.5e-4
-    second = Model(cloud, build_bonds(cloud, 3 * DX, "truncated"), mat, CriticalStretch(s0), [load])
+    second = Evaluator(cloud, build_bonds(cloud, 3 * DX, "truncated"), mat, CriticalStretch(s0), [load])
     first = (
         FDMModel1D(cloud, mat, [load])
         if first_kind == "fdm"
-        else Model(cloud, build_bonds(cloud, DX, "truncated"), mat, body_forces=[load])
+        else Evaluator(cloud, build_bonds(cloud, DX, "truncated"), mat, body_forces=[load])
     )
     common = dict(time_step=1e-6, integrator="central_difference")
     hyb = HybridSolver(
@@ -111,7 +111,7 @@ def test_switching_rule_is_reusable() -> None:
     with pytest.raises(ValueError):
         SwitchAtStretch(0.0)
     cloud, mat, _ = _pulse_bar()
-    target = Model(cloud, build_bonds(cloud, 3 * DX, "truncated"), mat, CriticalStretch(1e-3))
+    target = Evaluator(cloud, build_bonds(cloud, 3 * DX, "truncated"), mat, CriticalStretch(1e-3))
     st = target.new_state()
     assert not rule.should_switch(st, target, target)
     st.max_stretch[5] = 5e-4

@@ -27,7 +27,7 @@ import pytest
 import scipy.sparse.linalg as spla
 from scipy.spatial import Delaunay
 
-from peridynamics import BondBasedMaterial, Model, build_bonds
+from peridynamics import BondBasedMaterial, Evaluator, build_bonds
 from peridynamics.bonds.surface import energy_correction_factors, moment_correction_factors
 from peridynamics.families.calibration import calibrate_influence
 from peridynamics.families.lps.material import LPSMaterial
@@ -37,13 +37,13 @@ E, RHO, DX, M = 70e9, 2700.0, 1e-3, 3.015
 SIGMA = 1e6
 
 
-def pmb_model(cloud: PointCloud, bonds, correction: str = "moments") -> Model:
+def pmb_model(cloud: PointCloud, bonds, correction: str = "moments") -> Evaluator:
     """PMB as a deck builds it (``"moments"``: ``surface_correction=True``, which on a
     jittered cloud is the moment correction) or with the axis energy method of regular
     grids forced (``"axes"``)."""
     mat = BondBasedMaterial(E, RHO)
     if correction == "moments":
-        model = Model(cloud, bonds, mat, surface_correction=True)
+        model = Evaluator(cloud, bonds, mat, surface_correction=True)
         if cloud.irregular:  # the deck path really uses the moment method
             raw = mat.bond_stiffness(cloud, bonds, corrected=False)
             w_inf = mat.uniaxial_energy_density(
@@ -58,16 +58,16 @@ def pmb_model(cloud: PointCloud, bonds, correction: str = "moments") -> Model:
     w_inf = mat.uniaxial_energy_density(1e-6, cloud.dim, bonds.horizon, cloud.cross_section,
                                         cloud.plane)  # fmt: skip
     factors = energy_correction_factors(cloud.x, bonds, raw, w_inf, 1e-6)
-    return Model(cloud, bonds.with_correction(factors), mat)
+    return Evaluator(cloud, bonds.with_correction(factors), mat)
 
 
-def lps_model(cloud: PointCloud, bonds) -> Model:
-    return Model(cloud, bonds, LPSMaterial(E, 0.25, RHO), surface_correction=True)
+def lps_model(cloud: PointCloud, bonds) -> Evaluator:
+    return Evaluator(cloud, bonds, LPSMaterial(E, 0.25, RHO), surface_correction=True)
 
 
 def tension(
     cloud: PointCloud,
-    make: Callable[[PointCloud, object], Model],
+    make: Callable[[PointCloud, object], Evaluator],
     size: tuple[float, ...],
     margin: float,
     partial_volume: str = "truncated",

@@ -19,7 +19,7 @@ import math
 import numpy as np
 import pytest
 
-from peridynamics import BondBasedMaterial, Model, build_bonds
+from peridynamics import BondBasedMaterial, Evaluator, build_bonds
 from peridynamics.geometry import bar, box, rectangle
 
 E, RHO = 70e9, 2700.0
@@ -94,7 +94,7 @@ def uniaxial(cloud, k: int, eps: float) -> np.ndarray:
 @pytest.mark.parametrize("correction", [False, True])
 def test_affine_displacement_gives_zero_interior_force(dim, correction):
     cloud, bonds, to_face = make_body(dim)
-    model = Model(cloud, bonds, BondBasedMaterial(E, RHO), surface_correction=correction)
+    model = Evaluator(cloud, bonds, BondBasedMaterial(E, RHO), surface_correction=correction)
     rng = np.random.default_rng(dim)
     grad = rng.uniform(-2e-3, 2e-3, (dim, dim))
     u = cloud.x @ grad.T + rng.normal(size=dim) * 1e-4  # affine, with a translation
@@ -143,13 +143,13 @@ def test_interior_energy_density_with_and_without_correction(dim):
     w_cont = mat.uniaxial_energy_density(eps, dim, bonds.horizon, cloud.cross_section, plane)
     assert w_cont == pytest.approx(w_classical, rel=1e-12)
 
-    corrected = Model(cloud, bonds, mat, surface_correction=True)
+    corrected = Evaluator(cloud, bonds, mat, surface_correction=True)
     for k in range(dim):
         w = corrected.strain_energy_density(uniaxial(cloud, k, eps), bonds.bond_intact)
         np.testing.assert_allclose(w[interior], w_classical, rtol=1e-2)
 
     # without correction: the discrete lattice sum (tiny strain: linear regime)
-    plain = Model(cloud, bonds, mat)
+    plain = Evaluator(cloud, bonds, mat)
     eps_lin = 1e-7
     w_lat = lattice_w(dim, eps_lin, "constant", cloud.cross_section, cloud.spacing)
     w = plain.strain_energy_density(uniaxial(cloud, 0, eps_lin), bonds.bond_intact)
@@ -159,7 +159,7 @@ def test_interior_energy_density_with_and_without_correction(dim):
 @pytest.mark.parametrize("dim", [1, 2, 3])
 def test_interior_energy_density_conical_profile_lattice_sum(dim):
     cloud, bonds, to_face = make_body(dim)
-    model = Model(cloud, bonds, BondBasedMaterial(E, RHO, profile="conical"))
+    model = Evaluator(cloud, bonds, BondBasedMaterial(E, RHO, profile="conical"))
     eps = 1e-7
     w = model.strain_energy_density(uniaxial(cloud, 0, eps), bonds.bond_intact)
     interior = to_face.min(axis=(1, 2)) > bonds.horizon
@@ -196,7 +196,7 @@ def test_boundary_layer_energy_2d(k):
     u = uniaxial(cloud, k, eps)
     out = {}
     for corr in (False, True):
-        model = Model(cloud, bonds, mat, surface_correction=corr)
+        model = Evaluator(cloud, bonds, mat, surface_correction=corr)
         w = model.strain_energy_density(u, bonds.bond_intact)
         out[corr] = layer_means(2, to_face, bonds.horizon, w)
     mean_c, faces_c, n_layer = out[True]
@@ -225,7 +225,7 @@ def test_boundary_layer_energy_3d(k):
     u = uniaxial(cloud, k, 1e-3)
     out = {}
     for corr in (False, True):
-        model = Model(cloud, bonds, mat, surface_correction=corr)
+        model = Evaluator(cloud, bonds, mat, surface_correction=corr)
         out[corr] = layer_means(
             3, to_face, bonds.horizon, model.strain_energy_density(u, bonds.bond_intact)
         )
@@ -244,7 +244,7 @@ def test_boundary_layer_energy_1d():
     u = uniaxial(cloud, 0, 1e-3)
     errs = []
     for corr in (False, True):
-        model = Model(cloud, bonds, mat, surface_correction=corr)
+        model = Evaluator(cloud, bonds, mat, surface_correction=corr)
         mean, _, n_layer = layer_means(
             1, to_face, bonds.horizon, model.strain_energy_density(u, bonds.bond_intact)
         )

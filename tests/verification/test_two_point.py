@@ -17,7 +17,7 @@ import math
 import numpy as np
 import pytest
 
-from peridynamics import BondBasedMaterial, ExplicitSolver, Model, PointCloud, build_bonds
+from peridynamics import BondBasedMaterial, ExplicitSolver, Evaluator, PointCloud, build_bonds
 from peridynamics.loading import InitialVelocity
 
 E, RHO = 70e9, 2700.0
@@ -26,12 +26,12 @@ HORIZON = 3.015e-3
 DIR = np.array([1.0, 2.0, 2.0]) / 3.0
 
 
-def two_points(v0: float, v1: float) -> tuple[Model, float]:
+def two_points(v0: float, v1: float) -> tuple[Evaluator, float]:
     x = np.array([[0.1, -0.2, 0.3], [0.1, -0.2, 0.3] + L * DIR])
     cloud = PointCloud(x=x, volume=np.array([v0, v1]), spacing=L)
     bonds = build_bonds(cloud, HORIZON)
     assert bonds.n_bonds == 2
-    model = Model(cloud, bonds, BondBasedMaterial(E, RHO))
+    model = Evaluator(cloud, bonds, BondBasedMaterial(E, RHO))
     # independent stiffness: c = 12 E / (pi delta^4), beta = 1 (L <= delta - dx/2)
     c = 12 * E / (math.pi * HORIZON**4)
     np.testing.assert_allclose(model.stiffness, [c * v1, c * v0], rtol=1e-13)

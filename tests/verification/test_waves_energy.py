@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from peridynamics import BondBasedMaterial, ExplicitSolver, Model, build_bonds
+from peridynamics import BondBasedMaterial, ExplicitSolver, Evaluator, build_bonds
 from peridynamics.geometry import bar, rectangle
 
 
@@ -18,7 +18,7 @@ def test_long_wave_speed_in_a_bar():
     E, rho, dx = 200e9, 7850.0, 1e-3
     c0 = math.sqrt(E / rho)
     cloud = bar(1.0, dx, area=1e-4)
-    model = Model(cloud, build_bonds(cloud, 3 * dx), BondBasedMaterial(E, rho))
+    model = Evaluator(cloud, build_bonds(cloud, 3 * dx), BondBasedMaterial(E, rho))
     solver = ExplicitSolver(model)
     s = solver.init()
     x = cloud.x[:, 0]
@@ -58,7 +58,7 @@ def _plate_with_smooth_velocity(correction: bool, seed: int = 0):
     E, rho, dx = 70e9, 2700.0, 1e-3
     lx, ly = 0.02, 0.016
     cloud = rectangle((lx, ly), dx)
-    model = Model(
+    model = Evaluator(
         cloud,
         build_bonds(cloud, 3.015 * dx),
         BondBasedMaterial(E, rho),

@@ -77,7 +77,7 @@ def branching(
     d = np.array([1.0, 0.0]) if direction is None else np.asarray(direction, dtype=float)
     d = d / np.linalg.norm(d)
     rel = x[:, :2] - np.asarray(origin, dtype=float)[:2]
-    a = rel[:, 0] * d[0] + rel[:, 1] * d[1]  # no BLAS: see Model.strain_energy
+    a = rel[:, 0] * d[0] + rel[:, 1] * d[1]  # no BLAS: see Evaluator.strain_energy
     b = -rel[:, 0] * d[1] + rel[:, 1] * d[0]
     ahead = a >= -1e-12
     if not np.any(ahead):

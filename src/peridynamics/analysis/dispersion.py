@@ -247,7 +247,7 @@ def bloch_dispersion(model: object, point: int, wavevectors: ArrayLike, mode: st
     projector n n^T (``mode="tensor"``, the full bond-based operator) or 1
     (``mode="scalar"``, PD wave dispersion (n.d.), eq. 9). The family, partial volumes, micromodulus
     profile and surface correction are those of ``model`` (a
-    :class:`~peridynamics.evaluation.model.Model`); ``point`` should be an interior point.
+    :class:`~peridynamics.evaluation.evaluator.Evaluator`); ``point`` should be an interior point.
 
     Returns shape (n_k,) for "scalar" and (n_k, dim) (ascending) for "tensor".
     """

@@ -15,7 +15,7 @@ import numpy as np
 
 from peridynamics.bonds import build_bonds
 from peridynamics.damage.critical_stretch import NO_DAMAGE
-from peridynamics.evaluation import Model
+from peridynamics.evaluation import Evaluator
 from peridynamics.families.pmb import BondBasedMaterial
 from peridynamics.geometry import bar, box, rectangle
 from peridynamics.kernels import reference
@@ -65,7 +65,7 @@ class BenchResult:
         return dict(self.__dict__)
 
 
-def _model(dim: int, n_side: int, damage: Any = NO_DAMAGE) -> Model:
+def _model(dim: int, n_side: int, damage: Any = NO_DAMAGE) -> Evaluator:
     """The benchmark body: a bar, square or cube of points on a grid (dx = 1 mm,
     delta = 3.015 dx), PMB, ``damage`` (none by default)."""
     dx = 1.0e-3
@@ -76,7 +76,7 @@ def _model(dim: int, n_side: int, damage: Any = NO_DAMAGE) -> Model:
     else:
         cloud = box((n_side * dx,) * 3, dx)
     bonds = build_bonds(cloud, 3.015 * dx)
-    return Model(cloud, bonds, BondBasedMaterial(youngs_modulus=70e9, density=2500.0), damage)
+    return Evaluator(cloud, bonds, BondBasedMaterial(youngs_modulus=70e9, density=2500.0), damage)
 
 
 def run_case(
@@ -118,7 +118,7 @@ def run_case(
 
 
 def _numpy_seconds_per_step(
-    model: Model, solver: ExplicitSolver, state: State, numpy_steps: int
+    model: Evaluator, solver: ExplicitSolver, state: State, numpy_steps: int
 ) -> float:
     """Seconds per step of the plain-NumPy baseline from ``state`` (NaN when
     ``numpy_steps`` < 1: its half list would make every derived bond array)."""

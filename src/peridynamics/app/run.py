@@ -35,7 +35,7 @@ from peridynamics.solvers.explicit import SimulationUnstable
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.evaluation import Model
+    from peridynamics.evaluation import Evaluator
     from peridynamics.geometry import PointCloud
 
 
@@ -45,7 +45,7 @@ class RunLoop:
 
     deck: dk.Deck
     cloud: PointCloud
-    model: Model
+    model: Evaluator
     solver: Solver
     setup_s: float
     session: Any

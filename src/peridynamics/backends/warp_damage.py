@@ -23,7 +23,7 @@ class DeviceCriticalStretch:
 
     Parameters
     ----------
-    model : Model
+    model : Evaluator
         Its damage law must have ``point_s0`` (n,) (a critical-stretch law); a model
         without damage (every s0 infinite) breaks nothing and launches nothing.
     dm : DeviceModel

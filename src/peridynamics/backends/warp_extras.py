@@ -4,7 +4,7 @@ strain-energy-density softening of the bond stiffness (:class:`DeviceSED`, the d
 twin of :class:`~peridynamics.families.pmb_sed.stiffness.SoftenedStiffness`).
 
 Per committing evaluation the solver runs, in the order of
-:meth:`peridynamics.evaluation.model.Model.evaluate`:
+:meth:`peridynamics.evaluation.evaluator.Evaluator.evaluate`:
 
 1. the PMB force-and-break pass reading ``DeviceSED.stiffness``;
 2. :meth:`DeviceSED.update` (energy with the initial stiffness at ``ds.u`` over the
@@ -14,7 +14,7 @@ Per committing evaluation the solver runs, in the order of
 
 A pure (non-committing) evaluation skips step 2. After a checkpoint resume
 (``ds.upload(host)``) :meth:`DeviceSED.restore` rebuilds the factors and the stiffness
-from ``ds.fields["sed_level"]``, as ``Model.on_restore`` does on the host.
+from ``ds.fields["sed_level"]``, as ``Evaluator.on_restore`` does on the host.
 """
 
 from __future__ import annotations
@@ -66,7 +66,7 @@ class DeviceViscosity:
 
     Parameters
     ----------
-    model : Model
+    model : Evaluator
         With viscosity (``model._viscous`` = (lin, quad)); bond weights
         ``model.bonds.bond_volume`` and ``model.inv_length`` are uploaded once.
     dm : DeviceModel

@@ -76,7 +76,7 @@ class DeviceContact:
 
     Parameters
     ----------
-    model : Model
+    model : Evaluator
         Its ``contact`` supplies x, volumes, d_c, c_s, the skin, the friction
         coefficients and the global ids (the row order); ``density`` and ``time_step``
         are read for the friction.

@@ -160,7 +160,7 @@ class WarpExplicitSolver(ExplicitSolver):
         for extra in self.extras:
             extra.add(ds)
         self._loads_at(t_new)
-        if self._friction:  # the State's friction work (J), as Model.add_friction_work
+        if self._friction:  # the State's friction work (J), as Evaluator.add_friction_work
             for extra in self.extras:
                 power = getattr(extra, "power", None)
                 if power is not None:
@@ -195,7 +195,7 @@ class WarpExplicitSolver(ExplicitSolver):
         return int(self._total.numpy()[0])
 
     def _loads_at(self, t: float) -> None:
-        """Body-force loads at t (host: :meth:`Model.external_force`)."""
+        """Body-force loads at t (host: :meth:`Evaluator.external_force`)."""
         ds, dm = self.ds, self.dm
         assert ds is not None
         if not self._loads:
@@ -252,7 +252,7 @@ class WarpExplicitSolver(ExplicitSolver):
 
     def point_damage(self, s: State) -> NDArray[np.float64] | None:
         """Local damage (n,) reduced on the device (the bond flags stay there), the
-        bits of :meth:`Model.point_damage`; None before :meth:`init`."""
+        bits of :meth:`Evaluator.point_damage`; None before :meth:`init`."""
         ds, dm = self.ds, self.dm
         if ds is None:
             return None
@@ -269,7 +269,7 @@ class WarpExplicitSolver(ExplicitSolver):
     def state_energies(self, s: State) -> tuple[float, float] | None:
         """(kinetic, strain) energy (J) with the strain energy density reduced on the
         device (n floats back, not u and the bond flags); the sums are the host's
-        (:meth:`Model.state_energies`). None when the family has no device energy."""
+        (:meth:`Evaluator.state_energies`). None when the family has no device energy."""
         ds = self.ds
         if ds is None or self._energy is None:
             return None

@@ -31,7 +31,7 @@ from peridynamics.build.geometry import geometry_cloud
 from peridynamics.build.loads import time_function
 from peridynamics.build.materials import build_damage, build_material
 from peridynamics.build.regions import to_region
-from peridynamics.evaluation import Model
+from peridynamics.evaluation import Evaluator
 from peridynamics.geometry.cloud import PointCloud
 
 
@@ -84,7 +84,7 @@ def build_bodies_model(
     layout: BodyLayout,
     body_forces: list,
     contact: Any,
-) -> Model:
+) -> Evaluator:
     """The evaluator of a deck with several deformable bodies (see module docstring)."""
     if deck.damage.sed_softening is not None or any(
         b.damage is not None and b.damage.sed_softening is not None for b in deck.bodies
@@ -122,7 +122,7 @@ def build_bodies_model(
     except ValueError as exc:
         raise SetupError("interfaces", str(exc)) from None
     try:
-        return Model(
+        return Evaluator(
             cloud,
             bonds,
             BodiesMaterial(tuple(parts), tuple(interfaces)),

@@ -18,7 +18,7 @@ from peridynamics import deck as dk
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.build.errors import SetupError
 from peridynamics.damage import NO_DAMAGE, CriticalStretch, SEDSoftening, WeibullField
-from peridynamics.evaluation import Model
+from peridynamics.evaluation import Evaluator
 from peridynamics.families.registry import MATERIALS
 from peridynamics.families.viscosity import BondViscosity
 from peridynamics.geometry import PointCloud
@@ -69,7 +69,7 @@ def build_material(m: Any) -> Any:
 
 
 def build_damage(dmg: dk.Damage, m: Any, material: Any, cloud: PointCloud, bonds: Bonds) -> Any:
-    """The damage object given to :class:`Model` for the deck's ``damage`` section.
+    """The damage object given to :class:`Evaluator` for the deck's ``damage`` section.
 
     Parameters
     ----------
@@ -132,8 +132,8 @@ def build_damage(dmg: dk.Damage, m: Any, material: Any, cloud: PointCloud, bonds
     return damage
 
 
-def build_model(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, body: list) -> Model:
-    """Material + damage + loads -> Model."""
+def build_model(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, body: list) -> Evaluator:
+    """Material + damage + loads -> Evaluator."""
     material = build_material(deck.material)
     m = deck.material
     dmg = deck.damage
@@ -146,7 +146,7 @@ def build_model(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, body: list) -> M
     )
     contact = build_contact(deck, cloud, bonds, material)
     visc = getattr(m, "viscosity", None)
-    return Model(
+    return Evaluator(
         cloud,
         bonds,
         material,

@@ -26,7 +26,7 @@ from peridynamics.build.errors import SetupError
 from peridynamics.build.loads import build_conditions
 from peridynamics.build.materials import build_contact, build_material, build_model
 from peridynamics.build.solvers import build_solver
-from peridynamics.evaluation import Model
+from peridynamics.evaluation import Evaluator
 from peridynamics.families.registry import MATERIALS
 from peridynamics.geometry import PointCloud
 from peridynamics.solvers.base import Solver
@@ -39,7 +39,7 @@ class SimulationSetup:
 
     deck: dk.Deck
     cloud: PointCloud
-    model: Model
+    model: Evaluator
     solver: Solver
     setup_s: float = 0.0
     #: a decomposed run (``mpiexec -n N``): the collective side (None when serial)
@@ -73,7 +73,7 @@ class SimulationSetup:
             m = deck.material
             assert isinstance(m, dk.Material)
             material = MATERIALS[m.model](m.youngs_modulus, m.density, m.micromodulus_profile)
-            model: Model = FDMModel1D(cloud, material, body)
+            model: Evaluator = FDMModel1D(cloud, material, body)
         elif has_bodies(deck):
             layout = body_layout(deck, cloud)
             contact = build_contact(deck, cloud, bonds, build_material(deck.material))

@@ -11,7 +11,7 @@ from peridynamics import deck as dk
 from peridynamics.bonds import build_bonds
 from peridynamics.build.errors import SetupError
 from peridynamics.damage import NO_DAMAGE
-from peridynamics.evaluation import Model
+from peridynamics.evaluation import Evaluator
 from peridynamics.geometry import PointCloud
 from peridynamics.solvers.base import Solver
 from peridynamics.solvers.explicit import ExplicitSolver
@@ -37,21 +37,21 @@ def _solver_options(s: dk.Solver, kin: list, init: list, time_step: float | None
 
 
 def _hybrid_solver(
-    deck: dk.Deck, cloud: PointCloud, second: Model, body: list, kin: list, init: list
+    deck: dk.Deck, cloud: PointCloud, second: Evaluator, body: list, kin: list, init: list
 ) -> HybridSolver:
     """The first (cheap) model and the hybrid solver around it and the deck's model."""
     s = deck.solver
     assert isinstance(s, dk.Solver) and s.hybrid is not None
     h = s.hybrid
     material = second.material
-    first: Model
+    first: Evaluator
     if h.first == "fdm":
         first = FDMModel1D(cloud, material, body)
     else:
         bonds = build_bonds(
             cloud, h.first_horizon_factor * cloud.spacing, deck.discretisation.partial_volume
         )
-        first = Model(cloud, bonds, material, NO_DAMAGE, body)
+        first = Evaluator(cloud, bonds, material, NO_DAMAGE, body)
     limit = min(first.stable_time_step(), second.stable_time_step())
     dt = s.time_step if s.time_step is not None else s.safety_factor * limit
     common = _solver_options(s, kin, init, time_step=dt)
@@ -63,7 +63,7 @@ def _hybrid_solver(
 
 
 def build_explicit(
-    deck: dk.Deck, cloud: PointCloud, model: Model, body: list, kin: list, init: list
+    deck: dk.Deck, cloud: PointCloud, model: Evaluator, body: list, kin: list, init: list
 ) -> Solver:
     """Explicit dynamics from ``solver: {type: explicit, ...}`` (the default)."""
     s = deck.solver
@@ -79,7 +79,7 @@ def build_explicit(
     return ExplicitSolver(model, **_solver_options(s, kin, init, s.time_step))
 
 
-def _warp_solver(deck: dk.Deck, model: Model, kin: list, init: list) -> Solver:
+def _warp_solver(deck: dk.Deck, model: Evaluator, kin: list, init: list) -> Solver:
     """``solver.backend: warp``: the explicit step on a Warp device
     (:class:`~peridynamics.backends.warp_solver.WarpExplicitSolver`); what the backend
     does not run is refused by its deck key."""
@@ -111,7 +111,7 @@ def _warp_solver(deck: dk.Deck, model: Model, kin: list, init: list) -> Solver:
         raise SetupError("solver.device", str(exc)) from None
 
 
-def _set_precision(model: Model, precision: str) -> None:
+def _set_precision(model: Evaluator, precision: str) -> None:
     """``solver.precision: float32``: the PMB force pass with critical-stretch damage in
     float32 (:meth:`PMBForceModel.set_precision`); other models are refused by name."""
     from peridynamics.damage.critical_stretch import CriticalStretchLaw
@@ -138,7 +138,7 @@ def _set_precision(model: Model, precision: str) -> None:
 
 
 def build_static(
-    deck: dk.Deck, cloud: PointCloud, model: Model, body: list, kin: list, init: list
+    deck: dk.Deck, cloud: PointCloud, model: Evaluator, body: list, kin: list, init: list
 ) -> Solver:
     """The implicit static solver from ``solver: {type: static, ...}`` (every key of the
     section is a keyword of :class:`~peridynamics.solvers.static.StaticSolver`)."""
@@ -150,7 +150,7 @@ def build_static(
 
 
 def build_adr(
-    deck: dk.Deck, cloud: PointCloud, model: Model, body: list, kin: list, init: list
+    deck: dk.Deck, cloud: PointCloud, model: Evaluator, body: list, kin: list, init: list
 ) -> Solver:
     """Adaptive dynamic relaxation from ``solver: {type: adr, ...}`` (every key of the
     section is a keyword of :class:`~peridynamics.solvers.adr.ADRSolver`)."""
@@ -161,7 +161,7 @@ def build_adr(
     return ADRSolver(model, constraints=kin, **deck.solver.model_dump(exclude={"type"}))
 
 
-SolverBuilder = Callable[[dk.Deck, PointCloud, Model, list, list, list], Solver]
+SolverBuilder = Callable[[dk.Deck, PointCloud, Evaluator, list, list, list], Solver]
 #: ``solver.type`` -> builder(deck, cloud, model, body forces, constraints, initial)
 SOLVERS: dict[str, SolverBuilder] = {
     "explicit": build_explicit,
@@ -171,7 +171,7 @@ SOLVERS: dict[str, SolverBuilder] = {
 
 
 def build_solver(
-    deck: dk.Deck, cloud: PointCloud, model: Model, body: list, kin: list, init: list
+    deck: dk.Deck, cloud: PointCloud, model: Evaluator, body: list, kin: list, init: list
 ) -> Solver:
     """The deck's solver section -> a solver (registry :data:`SOLVERS`: ``solver.type``)."""
     s = deck.solver

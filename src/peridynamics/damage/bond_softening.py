@@ -102,7 +102,7 @@ class SofteningBonds:
     def law(
         self, x: NDArray[np.float64], bonds: Bonds, global_ids: NDArray[np.int64] | None = None
     ) -> BondSofteningLaw:
-        """The trial/commit law; ``Model`` binds it to the force model of the family
+        """The trial/commit law; ``Evaluator`` binds it to the force model of the family
         :attr:`force_family`."""
         return BondSofteningLaw(self, bonds)
 
@@ -135,7 +135,7 @@ class BondSofteningLaw(DamageLaw):
         if getattr(force_model, "kappa_field", None) is None:
             raise ValueError(
                 "damage.bond_law: a softening bond law needs its own force model "
-                "(Model builds it from the family SofteningBonds.force_family)"
+                "(Evaluator builds it from the family SofteningBonds.force_family)"
             )
         self.model = force_model
         b, sf = self.bonds, force_model.point_sf
@@ -159,7 +159,7 @@ class BondSofteningLaw(DamageLaw):
 
     def _bound(self) -> Any:
         if self.model is None:
-            raise RuntimeError("BondSofteningLaw is not bound to a force model (use Model)")
+            raise RuntimeError("BondSofteningLaw is not bound to a force model (use Evaluator)")
         return self.model
 
     def trial(self, state: State) -> int:

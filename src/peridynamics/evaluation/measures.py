@@ -1,8 +1,8 @@
 """What the evaluator measures of a State: energies, bond counts, local damage, stresses,
 stiffness bounds and the stable explicit step.
 
-:class:`Measures` is the half of :class:`~peridynamics.evaluation.model.Model` that reads a
-State without changing it; the other half (:mod:`peridynamics.evaluation.model`) owns
+:class:`Measures` is the half of :class:`~peridynamics.evaluation.evaluator.Evaluator` that reads a
+State without changing it; the other half (:mod:`peridynamics.evaluation.evaluator`) owns
 the order of an evaluation. Global sums and minima go through the model's communicator,
 over the owned points of a decomposed run.
 """
@@ -27,7 +27,7 @@ if TYPE_CHECKING:
 
 class Measures:
     """Energies, damage, stresses and stable steps of a
-    :class:`~peridynamics.evaluation.model.Model` (a mixin: it reads the model's cloud, bonds,
+    :class:`~peridynamics.evaluation.evaluator.Evaluator` (a mixin: it reads the model's cloud, bonds,
     force model, communicator, densities and extras)."""
 
     cloud: PointCloud
@@ -40,7 +40,7 @@ class Measures:
     _viscous: tuple[float, float] | None
 
     def _add_force_model_fields(self, s: State) -> None:
-        raise NotImplementedError  # the model's (:mod:`peridynamics.evaluation.model`)
+        raise NotImplementedError  # the model's (:mod:`peridynamics.evaluation.evaluator`)
 
     @property
     def dim(self) -> int:

@@ -23,7 +23,7 @@ from peridynamics.io.plots import plot_damage, plt
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.evaluation import Model
+    from peridynamics.evaluation import Evaluator
 
 AXES = "xyz"
 UNITS = {
@@ -130,7 +130,7 @@ def slices_figure(
 
 
 def deformed_figure(
-    path: Path, output: Output, model: Model, s: State, damage: NDArray, title: str
+    path: Path, output: Output, model: Evaluator, s: State, damage: NDArray, title: str
 ) -> None:
     """Damage on the deformed shape (2-D map; 3-D slices), displacements magnified."""
     cloud = model.cloud

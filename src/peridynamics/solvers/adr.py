@@ -63,7 +63,7 @@ t_k (time functions evaluated at t_k); with ``proportional=True`` (default) both
 multiplied by lambda_k = k/N as well, so that constant loads ramp up in N equal steps
 (with time functions that already ramp, use ``proportional=False``). One ``step()`` is
 one whole load step: ADR to equilibrium, then the damage law's trial and commit at the
-converged displacement (:meth:`peridynamics.evaluation.model.Model.commit_damage`); when bonds
+converged displacement (:meth:`peridynamics.evaluation.evaluator.Evaluator.commit_damage`); when bonds
 broke, ADR re-converges at the same load and damage is committed again, up to
 ``max_damage_rounds`` times. Each equilibrium solve restarts ADR from U' = 0 (ADR-6) at
 the current displacement; with ``extrapolate=True`` the free dofs of a new load step
@@ -91,7 +91,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from peridynamics.evaluation import Model
+from peridynamics.evaluation import Evaluator
 from peridynamics.loading.conditions import Kinematic, PrescribedVelocity
 from peridynamics.solvers.adr_relaxation import Relaxation, fictitious_density, flat
 from peridynamics.solvers.base import StepResult
@@ -109,7 +109,7 @@ class ADRSolver:
 
     Parameters
     ----------
-    model : Model
+    model : Evaluator
     constraints : sequence of PrescribedDisplacement or Fixed
         Kinematic conditions; their dofs are held at the prescribed value (scaled by
         k/N when ``proportional``) with zero fictitious velocity. Prescribed velocities
@@ -147,7 +147,7 @@ class ADRSolver:
 
     def __init__(
         self,
-        model: Model,
+        model: Evaluator,
         constraints: Sequence[Kinematic] = (),
         load_steps: int = 1,
         tolerance: float = 1e-8,

@@ -12,7 +12,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from peridynamics.evaluation import Model
+from peridynamics.evaluation import Evaluator
 from peridynamics.kernels.adr import adr_norms, adr_update
 from peridynamics.state import State
 
@@ -29,7 +29,7 @@ def flat(a: NDArray[np.float64]) -> NDArray[np.float64]:
     return a.reshape(-1)
 
 
-def fictitious_density(model: Model, density_factor: float, dt: float) -> NDArray[np.float64]:
+def fictitious_density(model: Evaluator, density_factor: float, dt: float) -> NDArray[np.float64]:
     """lambda_ii = density_factor / 4 * dt^2 * K_i per dof (n dim,) from the model's
     stiffness bound K_i (ADR-2); a point without stiffness gets the largest value."""
     bound = np.asarray(model.stiffness_bound(), dtype=np.float64)
@@ -45,7 +45,7 @@ class Relaxation:
 
     Parameters
     ----------
-    model : Model
+    model : Evaluator
     lam : (n dim,) fictitious density lambda_ii per dof (:func:`fictitious_density`).
     free : (n dim,) uint8, 1 for a free dof, 0 for a constrained one.
     dt : float
@@ -64,7 +64,7 @@ class Relaxation:
 
     def __init__(
         self,
-        model: Model,
+        model: Evaluator,
         lam: NDArray[np.float64],
         free: NDArray[np.uint8],
         dt: float,

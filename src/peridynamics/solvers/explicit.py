@@ -15,7 +15,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from peridynamics.evaluation import Model
+from peridynamics.evaluation import Evaluator
 from peridynamics.kernels import bond_based, integrators
 from peridynamics.loading.conditions import (
     Fixed,
@@ -59,11 +59,11 @@ class UnstableTimeStep(ValueError):
 
 @dataclass
 class ExplicitSolver:
-    """Explicit time integration of a :class:`~peridynamics.evaluation.model.Model`.
+    """Explicit time integration of a :class:`~peridynamics.evaluation.evaluator.Evaluator`.
 
     Parameters
     ----------
-    model : Model
+    model : Evaluator
     time_step : float, optional
         dt (s); default ``safety_factor * stable_time_step``.
     integrator : {"velocity_verlet", "central_difference"}
@@ -86,7 +86,7 @@ class ExplicitSolver:
         stops stepping.
     """
 
-    model: Model
+    model: Evaluator
     time_step: float | None = None
     integrator: Integrator = "velocity_verlet"
     constraints: Sequence[PrescribedDisplacement | PrescribedVelocity | Fixed] = ()

@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 from peridynamics.bonds import build_bonds
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.damage import NO_DAMAGE
-from peridynamics.evaluation import Model
+from peridynamics.evaluation import Evaluator
 from peridynamics.families.pmb.force import PMBForceModel
 from peridynamics.families.pmb.material import BondBasedMaterial
 from peridynamics.geometry.cloud import PointCloud
@@ -51,7 +51,7 @@ class FDMForceModel(PMBForceModel):
         fdm_force_1d(state.u, self._coef, self._inv_dx, state.force, state.max_stretch)
 
 
-class FDMModel1D(Model):
+class FDMModel1D(Evaluator):
     """Second-order central finite differences on a sorted uniform 1-D grid."""
 
     def __init__(

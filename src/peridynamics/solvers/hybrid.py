@@ -14,7 +14,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from peridynamics.evaluation import Model
+from peridynamics.evaluation import Evaluator
 from peridynamics.solvers.base import StepResult
 from peridynamics.solvers.explicit import ExplicitSolver
 from peridynamics.state import State
@@ -23,7 +23,7 @@ from peridynamics.state import State
 class SwitchingRule(Protocol):
     """Decides, after each step of the first solver, whether to switch."""
 
-    def should_switch(self, state: State, first: Model, second: Model) -> bool:
+    def should_switch(self, state: State, first: Evaluator, second: Evaluator) -> bool:
         """True to hand the state over to the second model now."""
         ...
 
@@ -35,19 +35,19 @@ class SwitchAtStretch:
     finite-difference first model the stretch is Delta u / dx between neighbours."""
 
     fraction: float = 0.9
-    _cached: tuple[Model, float] | None = field(default=None, repr=False, compare=False)
+    _cached: tuple[Evaluator, float] | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if not 0 < self.fraction <= 1:
             raise ValueError("the switching fraction must be in (0, 1]")
 
-    def should_switch(self, state: State, first: Model, second: Model) -> bool:
+    def should_switch(self, state: State, first: Evaluator, second: Evaluator) -> bool:
         if self._cached is None or self._cached[0] is not second:  # once per model
             self._cached = (second, self.threshold(second))
         limit = self._cached[1]
         return bool(np.isfinite(limit) and state.max_stretch.max() >= limit)
 
-    def threshold(self, second: Model) -> float:
+    def threshold(self, second: Evaluator) -> float:
         """``fraction`` x the smallest finite critical stretch of ``second`` (inf when
         nothing in it can break)."""
         finite = second.point_s0[np.isfinite(second.point_s0)]

@@ -55,7 +55,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.damage.critical_stretch import CriticalStretchLaw
-from peridynamics.evaluation import Model
+from peridynamics.evaluation import Evaluator
 from peridynamics.loading.conditions import Fixed, Kinematic
 from peridynamics.loading.time_functions import Constant
 from peridynamics.solvers import linear as lin
@@ -74,7 +74,7 @@ class StaticSolver:
 
     Parameters
     ----------
-    model : Model
+    model : Evaluator
     constraints : sequence of PrescribedDisplacement or Fixed
         Eliminated dofs. A :class:`~peridynamics.loading.conditions.Fixed` without
         components (or with ``"rotation"``) also fixes a micropolar rotation.
@@ -105,7 +105,7 @@ class StaticSolver:
 
     def __init__(
         self,
-        model: Model,
+        model: Evaluator,
         constraints: Sequence[Kinematic] = (),
         load_steps: int = 10,
         tolerance: float = 1e-8,

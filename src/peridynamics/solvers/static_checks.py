@@ -7,7 +7,7 @@ import math
 from collections.abc import Sequence
 from typing import Any
 
-from peridynamics.evaluation import Model
+from peridynamics.evaluation import Evaluator
 from peridynamics.loading.conditions import Kinematic, PrescribedVelocity
 from peridynamics.solvers import linear as lin
 
@@ -47,7 +47,7 @@ def check_arguments(
             )
 
 
-def check_damage(model: Model) -> None:
+def check_damage(model: Evaluator) -> None:
     """ValueError for a damage model the static solver cannot run."""
     law = model.damage_law
     if math.isfinite(getattr(law, "tensile_strength", math.inf)):

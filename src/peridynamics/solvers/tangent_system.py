@@ -20,7 +20,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from peridynamics.evaluation import Model
+from peridynamics.evaluation import Evaluator
 from peridynamics.solvers import linear as lin
 from peridynamics.state import State
 
@@ -30,7 +30,7 @@ class TangentSystem:
 
     Parameters
     ----------
-    model : Model
+    model : Evaluator
     width : int
         Dofs per point (all dof groups of the force model).
     fixed : (n width,) bool
@@ -53,7 +53,7 @@ class TangentSystem:
 
     def __init__(
         self,
-        model: Model,
+        model: Evaluator,
         width: int,
         fixed: NDArray[np.bool_],
         method: str,

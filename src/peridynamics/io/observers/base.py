@@ -24,7 +24,7 @@ from peridynamics.solvers.base import StepResult
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.evaluation import Model
+    from peridynamics.evaluation import Evaluator
 
 COMP = {"x": 0, "y": 1, "z": 2}
 
@@ -74,7 +74,7 @@ class RunContext:
     the records (histories, checkpointed) and the stop flag an observer may raise."""
 
     run: RunOptions
-    model: Model
+    model: Evaluator
     solver: Any
     out: Path
     records: dict[str, Any]

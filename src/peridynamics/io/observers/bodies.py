@@ -11,7 +11,7 @@ from peridynamics.solvers.base import StepResult
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.evaluation import Model
+    from peridynamics.evaluation import Evaluator
 
 
 class RigidBodyHistory(Observer):
@@ -20,7 +20,7 @@ class RigidBodyHistory(Observer):
     (m/s); and the energy dissipated by friction (J). In 2-D forces are per model
     thickness times the thickness, i.e. the force on the whole specimen."""
 
-    def __init__(self, model: Model) -> None:
+    def __init__(self, model: Evaluator) -> None:
         self.model = model
         self.rigid = model.rigid
 

@@ -14,14 +14,14 @@ from peridynamics.io.observers.base import Observer, RunContext
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.evaluation import Model
+    from peridynamics.evaluation import Evaluator
 
 
 class BondList(Observer):
     """``bonds.npz``: the bond list of the run, each bond once (i < j), with its
     reference length and final status, and the reference points (see docs/output.md)."""
 
-    def __init__(self, model: Model) -> None:
+    def __init__(self, model: Evaluator) -> None:
         self.model = model
 
     def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:

@@ -19,15 +19,15 @@ from peridynamics.analysis.crack_orientation import (
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.evaluation import Model
+    from peridynamics.evaluation import Evaluator
 
 
-def _interfaces(model: Model) -> tuple[Any, ...]:
+def _interfaces(model: Evaluator) -> tuple[Any, ...]:
     """Bonded interfaces of a model with several bodies (their own bond lists)."""
     return tuple(getattr(model.force_model, "interfaces", ()) or ())
 
 
-def all_intact(model: Model, s: State) -> NDArray[np.uint8]:
+def all_intact(model: Evaluator, s: State) -> NDArray[np.uint8]:
     """Bond flags of ``s`` in the order of :meth:`CrackMeter.from_bonds` with the
     model's interfaces: the bonds, then the interface bonds (n_bonds,)."""
     if _interfaces(model) and "interface_intact" in s:
@@ -35,7 +35,7 @@ def all_intact(model: Model, s: State) -> NDArray[np.uint8]:
     return s.intact
 
 
-def build_meter(model: Model, table: NDArray[np.float64] | None = None) -> CrackMeter:
+def build_meter(model: Evaluator, table: NDArray[np.float64] | None = None) -> CrackMeter:
     """The crack meter of a model (its bonds and those of its bonded interfaces);
     ``table``: its orientation table when made elsewhere (a decomposed run)."""
     extra = [f.bonds for f in _interfaces(model)]
@@ -43,7 +43,7 @@ def build_meter(model: Model, table: NDArray[np.float64] | None = None) -> Crack
 
 
 def broken_pairs(
-    model: Model, s: State, session: Any = None
+    model: Evaluator, s: State, session: Any = None
 ) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
     """End points (i, j) of the directed bonds broken during the run (pre-cracks
     excluded), interface bonds included; the owned families' bonds on a rank of a

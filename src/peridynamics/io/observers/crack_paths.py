@@ -16,14 +16,14 @@ from peridynamics.solvers.base import StepResult
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.evaluation import Model
+    from peridynamics.evaluation import Evaluator
 
 
 class CrackBranching(Observer):
     """Crack-tip position and speed histories; in 2-D the branching analysis of the
     final damage field (the tip itself is recorded by :class:`History`)."""
 
-    def __init__(self, spec: CrackTip, model: Model) -> None:
+    def __init__(self, spec: CrackTip, model: Evaluator) -> None:
         self.spec, self.model = spec, model
 
     def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
@@ -52,7 +52,7 @@ class CrackBranching(Observer):
         return []
 
 
-def effective_modulus_ratio(model: Model) -> float:
+def effective_modulus_ratio(model: Evaluator) -> float:
     """E of the model as run over the nominal E: the median over points of the strain
     energy density under a uniform uniaxial strain (1e-6 along x) over the continuum
     value (PMB; 1.0 for other families). About 1 with the surface correction, 0.84-0.86
@@ -75,7 +75,7 @@ class CrackPaths(Observer):
     length, initial angle, angles along it and tip speeds, flagged above the Rayleigh
     speed of the model as run (:mod:`peridynamics.analysis.crack_path`)."""
 
-    def __init__(self, run: RunOptions, model: Model) -> None:
+    def __init__(self, run: RunOptions, model: Evaluator) -> None:
         self.run, self.model = run, model
         self.specs = run.output.crack_paths
         self._last: tuple[int, dict[str, Any]] | None = None  # (step, paths) of the last record

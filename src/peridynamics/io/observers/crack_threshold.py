@@ -16,7 +16,7 @@ from peridynamics.io.options import CrackTip
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.evaluation import Model
+    from peridynamics.evaluation import Evaluator
 
 #: half-width of the damage band around a threshold that counts as "at the threshold"
 THRESHOLD_BAND = 0.03
@@ -48,7 +48,7 @@ def ridge_mask(
 
 
 def crack_ridge(
-    model: Model, s: State, damage: NDArray[np.float64], session: Any = None
+    model: Evaluator, s: State, damage: NDArray[np.float64], session: Any = None
 ) -> NDArray[np.bool_]:
     """:func:`ridge_mask` of the bonds broken during the run (pre-cracks excluded;
     ``session``: of a decomposed run, see :func:`broken_pairs`)."""
@@ -147,7 +147,7 @@ def warn_threshold(
     warnings.warn(msg, CrackThresholdWarning, stacklevel=2)
 
 
-def crack_tip_region(model: Model, spec: CrackTip) -> NDArray[np.bool_] | None:
+def crack_tip_region(model: Evaluator, spec: CrackTip) -> NDArray[np.bool_] | None:
     """Points ahead of a crack tip's origin (less one horizon), or ``None`` (all)."""
     if spec.direction is None:
         return None

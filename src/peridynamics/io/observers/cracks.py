@@ -22,7 +22,7 @@ from peridynamics.solvers.base import StepResult
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.evaluation import Model
+    from peridynamics.evaluation import Evaluator
 
 
 class CrackLength(Observer):
@@ -30,7 +30,7 @@ class CrackLength(Observer):
     every history record and at the end; per tracked crack (``output.crack_paths``,
     ``output.crack_tip``) at the end. Keys: docs/output.md."""
 
-    def __init__(self, run: RunOptions, model: Model) -> None:
+    def __init__(self, run: RunOptions, model: Evaluator) -> None:
         self.run, self.model = run, model
         self.dim = model.dim
         # result keys: crack_length_m ... in 2-D, crack_area_m2 ... in 3-D
@@ -110,7 +110,7 @@ class CrackLength(Observer):
         return []
 
 
-def crack_length_observers(run: RunOptions, model: Model) -> list[Observer]:
+def crack_length_observers(run: RunOptions, model: Evaluator) -> list[Observer]:
     """The observers of this module a run gets: :class:`CrackLength` in 2-D and 3-D when
     bonds can break and ``output.crack_length`` is on."""
     if model.dim < 2 or not getattr(run.output, "crack_length", True):

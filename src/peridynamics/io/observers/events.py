@@ -14,14 +14,14 @@ from peridynamics.solvers.base import StepResult
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.evaluation import Model
+    from peridynamics.evaluation import Evaluator
 
 
 class Fracture(Observer):
     """Records when the largest damage first reaches ``output.fracture.damage_threshold``
     (and where); asks the run to stop there when ``stop`` is set."""
 
-    def __init__(self, spec: FractureOptions, model: Model) -> None:
+    def __init__(self, spec: FractureOptions, model: Evaluator) -> None:
         self.spec, self.model = spec, model
 
     def on_step(self, ctx: RunContext, s: State, result: StepResult) -> None:

@@ -14,13 +14,13 @@ from peridynamics.io.plots import plot_damage, plot_histories, plt
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.evaluation import Model
+    from peridynamics.evaluation import Evaluator
 
 
 class Figure(Observer):
     """The PNGs of the run, ``{name}_{kind}.png``, one per kind in ``output.plot``."""
 
-    def __init__(self, run: RunOptions, model: Model) -> None:
+    def __init__(self, run: RunOptions, model: Evaluator) -> None:
         self.run, self.model = run, model
 
     def kinds(self) -> list[str]:

@@ -31,7 +31,7 @@ from peridynamics.solvers.base import StepResult
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.evaluation import Model
+    from peridynamics.evaluation import Evaluator
 
 
 def frame_fields(output: Output, s: State, damage: NDArray) -> dict[str, NDArray]:
@@ -71,7 +71,7 @@ class VTKFrames(Observer):
     """VTU frames (``output.vtk_every`` steps, ``output.frames_at`` times,
     ``output.frames_on`` events, the first and the last state) and the PVD series."""
 
-    def __init__(self, run: RunOptions, model: Model) -> None:
+    def __init__(self, run: RunOptions, model: Evaluator) -> None:
         self.run, self.model = run, model
         o = run.output
         self.times = sorted(o.frames_at)

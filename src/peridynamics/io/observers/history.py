@@ -16,7 +16,7 @@ from peridynamics.solvers.base import StepResult
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.evaluation import Model
+    from peridynamics.evaluation import Evaluator
 
 
 def _reduce(vals: NDArray, how: str, comm: Any) -> float:
@@ -35,7 +35,7 @@ class History(Observer):
     """Time, energies, largest damage, probes, stress-strain and crack tip every
     ``output.history_every`` steps (and at the last step or a stop)."""
 
-    def __init__(self, run: RunOptions, model: Model) -> None:
+    def __init__(self, run: RunOptions, model: Evaluator) -> None:
         self.run, self.model = run, model
         ct = run.output.crack_tip
         self._tip = (

@@ -19,7 +19,7 @@ from peridynamics.io.observers.history import History
 from peridynamics.io.observers.waves import BlastRecord, WaveOutputs
 
 if TYPE_CHECKING:
-    from peridynamics.evaluation import Model
+    from peridynamics.evaluation import Evaluator
 
 #: every observer class by name (the order of a run is :func:`observers_for`'s)
 OBSERVERS: dict[str, type[Observer]] = {
@@ -41,7 +41,7 @@ OBSERVERS: dict[str, type[Observer]] = {
 
 
 def observers_for(
-    run: RunOptions, model: Model, step_events: tuple[str, ...], checkpoint_every: int
+    run: RunOptions, model: Evaluator, step_events: tuple[str, ...], checkpoint_every: int
 ) -> list[Observer]:
     """The observers a run asks for, in the order they run.
 

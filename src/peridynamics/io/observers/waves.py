@@ -14,13 +14,13 @@ from peridynamics.io.observers.base import Blast, Observer, RunContext, RunOptio
 from peridynamics.state import State
 
 if TYPE_CHECKING:
-    from peridynamics.evaluation import Model
+    from peridynamics.evaluation import Evaluator
 
 
 class WaveOutputs(Observer):
     """``results.period_s`` and the d'Alembert comparison (+ ``wave_profile.csv``)."""
 
-    def __init__(self, run: RunOptions, model: Model) -> None:
+    def __init__(self, run: RunOptions, model: Evaluator) -> None:
         self.run, self.model = run, model
 
     def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:

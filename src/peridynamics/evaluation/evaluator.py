@@ -1,9 +1,9 @@
 """The model evaluator: owns the physics order of one force evaluation.
 
-A :class:`Model` composes a force model (one model family, :mod:`peridynamics.families`)
+A :class:`Evaluator` composes a force model (one model family, :mod:`peridynamics.families`)
 with a damage law, the optional extras and the external loads, and is the one place
 that calls their kernels and the communicator. The order of one evaluation
-(:meth:`Model.evaluate`) is:
+(:meth:`Evaluator.evaluate`) is:
 
 1. damage: the law's trial and commit (only when the solver commits at this
    evaluation: every step in explicit dynamics, never inside a dynamic-relaxation or
@@ -20,7 +20,7 @@ the displacement, the velocity and any further dof group (rotations) through
 rank that holds them (:mod:`peridynamics.parallel.local`), so the pre-pass fields they
 need at both ends of a bond are computed there and need no second exchange.
 
-External loads are filled separately by :meth:`Model.external_force`. A force model
+External loads are filled separately by :meth:`Evaluator.external_force`. A force model
 that declares a fused step (:meth:`~peridynamics.families.base.ForceModel.fused_step`:
 PMB with a committing critical-stretch law, the tension-softening bonds with their law,
 several bodies each their way) runs steps 1 and 3 (PMB in 2-D also the SED energy of
@@ -56,7 +56,7 @@ from peridynamics.state import State
 
 
 @dataclass
-class Model(Measures):
+class Evaluator(Measures):
     """A peridynamic body: force model + damage law + extras + loads.
 
     Parameters
