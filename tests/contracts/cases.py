@@ -36,6 +36,7 @@ from peridynamics.families.micropolar.material import MicropolarMaterial
 from peridynamics.families.pmb.force import PMBForceModel
 from peridynamics.families.pmb.material import BondBasedMaterial
 from peridynamics.families.pmb_sed.stiffness import SoftenedStiffness
+from peridynamics.families.pmb_softening.force import softening_force_model
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.geometry.generators import bar, box, rectangle
 from peridynamics.kernels import correspondence as kernels_correspondence
@@ -192,7 +193,9 @@ def pmb_softening(dim: int) -> Built:
     bonds = build_bonds(cloud, 3.015 * DX)
     law = SofteningBonds("trilinear", SOFT["ft"], SOFT["g0"], knee=(0.3, 0.4),
                          no_fail=np.array([0, 5]))  # fmt: skip
-    model = law.force_model(BondBasedMaterial(SOFT["E"], SOFT["rho"]), cloud, bonds, True)
+    model = softening_force_model(
+        law, BondBasedMaterial(SOFT["E"], SOFT["rho"]), cloud, bonds, True
+    )
     sf = model.envelope.s_f
     st = deform(model, blank_state(model), seed=20 + dim, amp=0.05 * sf, broken=0.05)
     st.u += 0.5 * sf * (cloud.x - cloud.x.mean(axis=0))
