@@ -343,7 +343,9 @@ def seed003_fig6(out_dir: Path, n: int) -> Path:
 def engine_patch(partial_volume: str, h: float = 1e-3, thickness: float = 0.01) -> tuple:
     """(model, centre point) of a 21 x 21-point plane-stress patch, delta = 3.015 h."""
     cloud = rectangle((21 * h, 21 * h), h, thickness=thickness)
-    model = Evaluator(cloud, build_bonds(cloud, M003 * h, partial_volume), BondBasedMaterial(E, RHO))
+    model = Evaluator(
+        cloud, build_bonds(cloud, M003 * h, partial_volume), BondBasedMaterial(E, RHO)
+    )
     centre = int(np.argmin(np.sum((cloud.x - cloud.x.mean(axis=0)) ** 2, axis=1)))
     return model, centre
 

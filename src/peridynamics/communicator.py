@@ -118,7 +118,8 @@ _ACTIVE: list[Communicator] = []
 
 def active_comm() -> Communicator:
     """The communicator of the run being built (:func:`using`), else :data:`SERIAL`:
-    the default of every :class:`~peridynamics.evaluation.evaluator.Evaluator` and of the set-up steps
+    the default of every :class:`~peridynamics.evaluation.evaluator.Evaluator` and of the set-up
+    steps
     that exchange per-point reference quantities (surface-correction ratios)."""
     if _ACTIVE:
         return _ACTIVE[-1]

@@ -1,6 +1,7 @@
 """2-D micropolar bond-based model: springs, kernels, energy, tangent, assembly, dynamics.
 
-Checks :mod:`peridynamics.families.micropolar.material`, :mod:`peridynamics.families.micropolar.force`,
+Checks :mod:`peridynamics.families.micropolar.material`,
+:mod:`peridynamics.families.micropolar.force`,
 the Numba kernels against their NumPy twins, and the two tangent assemblies of
 :mod:`peridynamics.families.assembly`. All models are small (at most 256 points).
 """

@@ -1,5 +1,6 @@
 """LPS surface correction (``surface_correction=True``, the deck default): the per-point
-calibration of the influence function (:func:`peridynamics.families.calibration.calibrate_influence`).
+calibration of the influence function
+(:func:`peridynamics.families.calibration.calibrate_influence`).
 
 What is checked, on the default deck discretisation (truncated partial volumes,
 delta = 3.015 dx):

@@ -1,6 +1,7 @@
 # mypy: ignore-errors
 """Warp kernels of :mod:`peridynamics.backends.warp_short_range_contact`: the short-range
-contact of :class:`~peridynamics.evaluation.short_range_contact.ShortRangeContact` on the device (Verlet-list rebuild test,
+contact of :class:`~peridynamics.evaluation.short_range_contact.ShortRangeContact` on the device
+(Verlet-list rebuild test,
 candidate search on a float64 :class:`warp.HashGrid`, frictionless and Coulomb force
 passes). Every kernel runs one thread per point and writes only that point's entries
 (no atomics); the arithmetic and the order of each sum are those of the Numba kernels

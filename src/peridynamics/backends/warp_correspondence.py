@@ -4,7 +4,8 @@
 zero-energy-mode controls (``material.stabilization``: none, silling2017, lbscmm) and the
 built-in stress laws (``material.law``: st_venant_kirchhoff, linear_elastic).
 
-One evaluation runs, as :meth:`peridynamics.evaluation.evaluator.Evaluator.evaluate` on the host: with
+One evaluation runs, as :meth:`peridynamics.evaluation.evaluator.Evaluator.evaluate` on the host:
+with
 ``commit`` the damage law's trial and commit, then the pre-pass (K, F, sigma^s, A =
 (P - sigma^s) K^-1 and the stabilisation coefficient of every point) and the force pass.
 Damage laws: critical stretch

@@ -2,7 +2,8 @@
 as Warp arrays, resident on one Warp device (``"cuda:0"`` or ``"cpu"``).
 
 The seam every device model family implements (:class:`DeviceFamily`): built from the
-host :class:`~peridynamics.evaluation.evaluator.Evaluator` (whose arrays are uploaded once, by name, through
+host :class:`~peridynamics.evaluation.evaluator.Evaluator` (whose arrays are uploaded once, by
+name, through
 :meth:`DeviceModel.upload`), it overwrites ``ds.force`` with the internal force density
 at ``ds.u`` (``ds.v``) and, with ``commit``, first breaks the bonds its damage law
 breaks, counting them per point in ``ds.broken``. Extras (viscosity, contact, damping)

@@ -2,7 +2,8 @@
 
 :func:`device_terms` picks the device family of the model's force model (PMB here; LPS
 and correspondence in their modules) and the extras (contact, mass damping, viscosity)
-in the order of :meth:`peridynamics.evaluation.evaluator.Evaluator.evaluate`; :func:`unsupported` names the
+in the order of :meth:`peridynamics.evaluation.evaluator.Evaluator.evaluate`; :func:`unsupported`
+names the
 deck key of anything the backend does not run (the run is refused before it starts).
 """
 

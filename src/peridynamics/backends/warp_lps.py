@@ -2,7 +2,8 @@
 :class:`~peridynamics.backends.warp_device.DeviceFamily` of
 :class:`~peridynamics.families.lps.force.LPSForceModel`.
 
-One evaluation runs, as :meth:`peridynamics.evaluation.evaluator.Evaluator.evaluate` on the host: the
+One evaluation runs, as :meth:`peridynamics.evaluation.evaluator.Evaluator.evaluate` on the host:
+the
 critical-stretch trial and commit (with ``commit``), the dilatation pre-pass, the force
 pass. The constants (influence weights of both bond ends, ``tf / m_i``, ``k_theta tf /
 m_i``, ``alpha / m_i``) are the host model's arrays, uploaded once; the weighted volume

@@ -27,7 +27,8 @@ if TYPE_CHECKING:
 
 class Measures:
     """Energies, damage, stresses and stable steps of a
-    :class:`~peridynamics.evaluation.evaluator.Evaluator` (a mixin: it reads the model's cloud, bonds,
+    :class:`~peridynamics.evaluation.evaluator.Evaluator` (a mixin: it reads the model's cloud,
+    bonds,
     force model, communicator, densities and extras)."""
 
     cloud: PointCloud

@@ -63,7 +63,8 @@ t_k (time functions evaluated at t_k); with ``proportional=True`` (default) both
 multiplied by lambda_k = k/N as well, so that constant loads ramp up in N equal steps
 (with time functions that already ramp, use ``proportional=False``). One ``step()`` is
 one whole load step: ADR to equilibrium, then the damage law's trial and commit at the
-converged displacement (:meth:`peridynamics.evaluation.evaluator.Evaluator.commit_damage`); when bonds
+converged displacement (:meth:`peridynamics.evaluation.evaluator.Evaluator.commit_damage`); when
+bonds
 broke, ADR re-converges at the same load and damage is committed again, up to
 ``max_damage_rounds`` times. Each equilibrium solve restarts ADR from U' = 0 (ADR-6) at
 the current displacement; with ``extrapolate=True`` the free dofs of a new load step
