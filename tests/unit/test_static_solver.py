@@ -15,10 +15,8 @@ from __future__ import annotations
 
 import copy
 import json
-from collections.abc import Iterator
 from typing import Any
 
-import numba
 import numpy as np
 import pytest
 
@@ -41,13 +39,8 @@ E_STEEL, NU, RHO_STEEL = 200e9, 0.2, 7850.0
 E_AL, RHO_AL = 70e9, 2700.0
 
 
-@pytest.fixture(autouse=True)
-def _one_thread() -> Iterator[None]:
-    """Small problems: one Numba thread (the results do not depend on the count)."""
-    before = numba.get_num_threads()
-    numba.set_num_threads(1)
-    yield
-    numba.set_num_threads(before)
+# small problems: one Numba thread is faster than several (results do not depend on it)
+pytestmark = pytest.mark.usefixtures("serial_numba")
 
 
 def _run(solver: StaticSolver, limit: int = 10_000) -> tuple[Any, list]:
