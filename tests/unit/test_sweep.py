@@ -195,6 +195,7 @@ def test_values_names_and_assignment() -> None:
     assert flat == {"a": 1, "b.c": 2.5, "e": None, "f": 1}
 
 
+@pytest.mark.mpi
 @pytest.mark.skipif(mpiexec()[0] is None, reason=mpiexec()[1])
 def test_mpi_spreads_cases_over_ranks(grid_run: tuple[Path, Path], tmp_path: Path) -> None:
     deck, grid = grid_run
