@@ -23,6 +23,13 @@ EXAMPLES = ROOT / "examples"
 #: ``src/`` when the tests run with ``PYTHONPATH=src``): subprocesses import the same
 #: copy as this process, so a cold run compiles the Numba kernels once
 PACKAGE_PARENT = Path(peridynamics.__file__).resolve().parents[1]
+#: overrides of the example runs that an example's test and its gallery test share
+#: (``example_run`` of ``tests/conftest.py``): the bar at dx = 10 mm, dt = 2 us (101
+#: points, the shipped Courant number), the plate at dx = 1 mm (1000 points, explicit and
+#: ADR), crack branching at dx = 0.5 mm with delta = 4 dx (16 000 points)
+BAR_WAVE = ("discretisation.spacing=0.01", "solver.time_step=2e-6")
+PLATE = ("discretisation.spacing=1e-3",)
+BRANCHING = ("discretisation.spacing=5e-4", "discretisation.horizon=2e-3", "output.vtk_every=0")
 #: the environment variable of the crash injection (the process ends by ``os._exit``)
 CRASH = "PERIDYNAMICS_CRASH_AT_STEP"
 
