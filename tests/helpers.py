@@ -30,6 +30,8 @@ PACKAGE_PARENT = Path(peridynamics.__file__).resolve().parents[1]
 BAR_WAVE = ("discretisation.spacing=0.01", "solver.time_step=2e-6")
 PLATE = ("discretisation.spacing=1e-3",)
 BRANCHING = ("discretisation.spacing=5e-4", "discretisation.horizon=2e-3", "output.vtk_every=0")
+#: the research example (notched plate) at dx = 1 mm, delta = 3 dx (1000 points)
+RESEARCH = ("discretisation.spacing=1e-3", "discretisation.horizon_factor=3")
 #: the environment variable of the crash injection (the process ends by ``os._exit``)
 CRASH = "PERIDYNAMICS_CRASH_AT_STEP"
 

@@ -111,6 +111,7 @@ def test_static_fracture_load_displacement_curve(example_run) -> None:
     assert r["bonds_broken"] == pytest.approx(410, rel=0.05)
 
 
+@pytest.mark.long
 def test_crack_branching_small(example_run) -> None:
     s = _run(example_run, "crack_branching_2d", *BRANCHING)
     r = s["results"]

@@ -1,34 +1,36 @@
 """The figure script of the crack-branching example (``examples/crack_branching_2d/
-make_figures.py``) at the size of the fast test in ``test_examples.py`` (16 000 points),
-stopped at 30 us (272 steps) to keep it short: the numbers the script adds to the run's
-summary (Rayleigh speeds of the model as run, the crack start, the mean tip speed) and
-its figure. The run's own results at 46 us are checked by
+make_figures.py``) on the run of the fast test in ``test_examples.py`` (16 000 points,
+46 us; ``--no-run`` on a copy of the session's shared run, ``tests/conftest.py``): the
+numbers the script adds to the run's summary (Rayleigh speeds of the model as run, the
+crack start, the mean tip speed) and its figure. The run's own results are checked by
 ``test_examples.py::test_crack_branching_small``.
 """
 
 from __future__ import annotations
 
 import json
+import shutil
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
 
-from tests.helpers import EXAMPLES, load_script
+from tests.helpers import BRANCHING, EXAMPLES, load_script
+
+pytestmark = pytest.mark.long  # the 16 000-point run (CI: pytest -m long)
 
 SCRIPT = EXAMPLES / "crack_branching_2d" / "make_figures.py"
 
 
-def test_make_figures_small(tmp_path: Path) -> None:
+def test_make_figures_small(tmp_path: Path, example_run: Callable[..., Path]) -> None:
     mod = load_script(SCRIPT, "cb_figures")
-    sets = [
-        "discretisation.spacing=5e-4",
-        "discretisation.horizon=2e-3",
-        "output.vtk_every=0",
-        "solver.end_time=30e-6",
-    ]
-    assert mod.main(["--out", str(tmp_path)] + [a for s in sets for a in ("--set", s)]) == 0
-    res = json.loads((tmp_path / "crack_branching_2d.json").read_text())
-    assert (tmp_path / "crack_branching_2d.png").stat().st_size > 1000
+    out = shutil.copytree(
+        example_run("crack_branching_2d", "deck.yaml", *BRANCHING), tmp_path / "run"
+    )
+    sets = [a for s in BRANCHING for a in ("--set", s)]
+    assert mod.main(["--out", str(out), "--no-run", *sets]) == 0
+    res = json.loads((out / "crack_branching_2d.json").read_text())
+    assert (out / "crack_branching_2d.png").stat().st_size > 1000
     # Rayleigh speeds (exact root, plane stress, nu = 1/3): 0.855 E (static solves,
     # docs/deck.md) 2807.5 m/s, the constant of test_examples.py; the library's energy
     # ratio 0.8774 (a property of the m = 4 grid family) 2844.0 m/s; nominal E 3036.3 m/s

@@ -38,6 +38,7 @@ def _sets(overrides: tuple[str, ...]) -> list[str]:
     return [a for o in overrides for a in ("--set", o)]
 
 
+@pytest.mark.long
 def test_bar_wave_1d_figure(tmp_path: Path, example_run: Callable[..., Path]) -> None:
     # dx = 10 mm (101 points) with dt = 2 us: the shipped Courant number c dt / dx = 0.55
     out = shutil.copytree(example_run("bar_wave_1d", "deck.yaml", *BAR_WAVE), tmp_path / "run")
@@ -57,6 +58,7 @@ def test_bar_wave_1d_figure(tmp_path: Path, example_run: Callable[..., Path]) ->
     assert res["velocity_l2_error_relative"] < 0.2
 
 
+@pytest.mark.long
 def test_plate_tension_2d_figure(tmp_path: Path, example_run: Callable[..., Path]) -> None:
     for name, deck in (("explicit", "deck.yaml"), ("adr", "adr.yaml")):
         shutil.copytree(example_run("plate_tension_2d", deck, *PLATE), tmp_path / name)
@@ -83,6 +85,7 @@ def test_plate_tension_2d_figure(tmp_path: Path, example_run: Callable[..., Path
     assert res["explicit_over_adr_lateral"] == pytest.approx(1.0, abs=0.01)
 
 
+@pytest.mark.long
 def test_static_fracture_figure(tmp_path: Path, example_run: Callable[..., Path]) -> None:
     pytest.importorskip("skfem")
     # the deck as shipped (450 points), the FEM reference on 1 mm elements (P2)

@@ -32,6 +32,7 @@ def _load(name: str):
     return mod
 
 
+@pytest.mark.long
 def test_contract_through_the_cli(tmp_path) -> None:
     cli("run", str(RC / "flaw30_m10.yaml"), "--out", str(tmp_path), *COARSE, check=True)
     summary = json.loads((tmp_path / "summary.json").read_text())
@@ -67,6 +68,7 @@ def test_contract_through_the_cli(tmp_path) -> None:
     assert (tmp_path / "flaw30_m10_damage.png").exists()
 
 
+@pytest.mark.long
 def test_ensemble_command(tmp_path) -> None:
     cli("ensemble", str(RC / "flaw30_m2.yaml"), "--n", "2", "--seed0", "3", "--out",
         str(tmp_path), "--quiet", *COARSE, "--set", "output.plot=none", check=True)  # fmt: skip
@@ -88,6 +90,7 @@ def test_ensemble_command(tmp_path) -> None:
     assert bad.returncode == 2 and "weibull" in bad.stderr
 
 
+@pytest.mark.long
 def test_flaw_analysis_script_small(tmp_path) -> None:
     mod = _load("analyse")
     sets = [COARSE[i + 1] for i in range(0, len(COARSE), 2)]
