@@ -50,6 +50,7 @@ def _run(deck: dict, steps: int | None = None):
     return sim, s, out
 
 
+@pytest.mark.long
 def test_block_sliding_on_a_rigid_plane_decelerates_at_mu_k_g():
     sim, s, snaps = _run(SLIDE)
     rho_v = sim.model.density * sim.cloud.volume

@@ -312,6 +312,7 @@ def dcb_c() -> Trace:
     return Trace(load_steps=4, breaking="C", reuse_factorization=True)
 
 
+@pytest.mark.long
 def test_dcb_breaks_a_few_dozen_pairs_and_ends(dcb_c: Trace) -> None:
     t = dcb_c
     assert t.summary["converged"] is True, t.summary["message"]
@@ -322,6 +323,7 @@ def test_dcb_breaks_a_few_dozen_pairs_and_ends(dcb_c: Trace) -> None:
     assert sum(st["result"].broken for st in t.steps) == t.state.bonds_broken
 
 
+@pytest.mark.long
 def test_dcb_reuse_of_the_factorization_changes_nothing_but_the_cost(dcb_c: Trace) -> None:
     fresh = Trace(load_steps=4, breaking="C", reuse_factorization=False)
     assert np.array_equal(fresh.state.intact, dcb_c.state.intact)
@@ -354,6 +356,7 @@ def _check_scheme(t: Trace, per_event: int | None) -> None:
                 assert min(r[k] for k in broken) >= max(r[k] for k in left)
 
 
+@pytest.mark.long
 def test_dcb_schemes_a_b_c(dcb_c: Trace) -> None:
     _check_scheme(dcb_c, 4)
     b = Trace(load_steps=4, breaking="B")
@@ -375,6 +378,7 @@ def test_dcb_schemes_a_b_c(dcb_c: Trace) -> None:
         assert np.array_equal(t.state.intact, t.state.intact[rev])
 
 
+@pytest.mark.long
 def test_dcb_no_violation_is_left_behind(dcb_c: Trace) -> None:
     steps = dcb_c.steps
     for k, st in enumerate(steps):
@@ -390,6 +394,7 @@ def test_dcb_no_violation_is_left_behind(dcb_c: Trace) -> None:
     assert steps[-1]["max_ratio_after"] < 1.0
 
 
+@pytest.mark.long
 def test_dcb_event_driven_load_hits_the_first_event(dcb_c: Trace) -> None:
     steps = dcb_c.steps
     first = next(k for k, st in enumerate(steps) if st["pending"])
@@ -406,6 +411,7 @@ def test_dcb_event_driven_load_hits_the_first_event(dcb_c: Trace) -> None:
     )
 
 
+@pytest.mark.long
 def test_dcb_both_directions_of_a_broken_pair_break(dcb_c: Trace) -> None:
     intact = dcb_c.state.intact
     rev = dcb_c.model.bonds.reverse_index()
@@ -501,6 +507,7 @@ def _paths(exc: DeckError) -> list[str]:
     return [path for path, _ in exc.errors]
 
 
+@pytest.mark.long
 def test_micropolar_static_deck_runs(tmp_path) -> None:
     sim = Simulation.from_deck(parse_deck(copy.deepcopy(DECK)))
     assert isinstance(sim.solver, StaticSolver)

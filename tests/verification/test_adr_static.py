@@ -186,6 +186,7 @@ def _notched_plate(s0: float) -> tuple[Model, list[Kinematic], NDArray[np.intp]]
     return model, bc, right
 
 
+@pytest.mark.long
 def test_load_stepped_notched_plate_rises_then_drops() -> None:
     """Load-displacement curve with damage committed per load step (20 steps).
 

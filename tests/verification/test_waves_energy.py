@@ -11,6 +11,7 @@ from peridynamics import BondBasedMaterial, ExplicitSolver, Model, build_bonds
 from peridynamics.geometry import bar, rectangle
 
 
+@pytest.mark.long
 def test_long_wave_speed_in_a_bar():
     """A Gaussian displacement of width 20 horizons splits into two pulses travelling at
     +-sqrt(E / rho). With delta = 3 dx and the truncated rule the long-wave modulus is
