@@ -27,7 +27,6 @@ def serial_numba() -> Iterator[None]:
     numba.set_num_threads(before)
 
 
-
 @pytest.fixture(scope="session")
 def example_run(tmp_path_factory: pytest.TempPathFactory) -> Callable[..., Path]:
     """``example_run(folder, deck, *overrides)``: the output folder of

@@ -31,7 +31,6 @@ E = 2.0e9
 RHO = 1500.0
 
 
-
 def irregular_cloud(dim: int, seed: int, plane: Plane = "stress") -> PointCloud:
     """A small body with jittered positions and random nodal volumes."""
     rng = np.random.default_rng(seed)

@@ -49,7 +49,6 @@ DELTA = 3.015 * DX  # the deck default horizon_factor
 SIGMA = 1.0e2
 
 
-
 @pytest.fixture(scope="module")
 def grid_bonds():
     """Default-deck grids: a 2-D plate and a 3-D cube (truncated, delta = 3.015 dx)."""
