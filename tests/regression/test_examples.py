@@ -88,6 +88,7 @@ def test_plate_tension_2d_static_by_adr(example_run) -> None:
 _C_R_MODEL = 0.9194 * math.sqrt(0.855 * 65e9 / (2 * (1 + 1 / 3)) / 2235.0)
 
 
+@pytest.mark.long
 def test_static_fracture_load_displacement_curve(example_run) -> None:
     """ADR with damage committed per load step: the reaction rises linearly, peaks when
     bonds start to break at the notch tip, and drops to ~0 once the ligament is cut.
@@ -142,9 +143,15 @@ def test_crack_branching_paper_scale(example_run) -> None:
 
 
 _DECKS = sorted(p for p in EXAMPLES.rglob("*.yaml"))
+#: decks whose set-up alone (bonds of tens of thousands of points) takes seconds: long tier
+_LARGE = {"crack_branching_2d/deck.yaml", "kalthoff_winkler/deck.yaml"}
+_DECK_PARAMS = [
+    pytest.param(p, marks=pytest.mark.long) if str(p.relative_to(EXAMPLES)) in _LARGE else p
+    for p in _DECKS
+]
 
 
-@pytest.mark.parametrize("deck", _DECKS, ids=[str(p.relative_to(EXAMPLES)) for p in _DECKS])
+@pytest.mark.parametrize("deck", _DECK_PARAMS, ids=[str(p.relative_to(EXAMPLES)) for p in _DECKS])
 def test_every_example_deck_sets_up(deck) -> None:
     """Every shipped deck validates and builds its model and solver (the stable-step
     check included), whether or not another test runs it."""

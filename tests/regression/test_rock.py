@@ -122,6 +122,7 @@ def test_flaw_analysis_script_small(tmp_path) -> None:
     assert (tmp_path / "double_flaw45_stages.png").exists()
 
 
+@pytest.mark.long
 def test_contact_stops_two_blocks_interpenetrating_in_a_model() -> None:
     """Two plates 2 mm apart (no bonds across: gap > delta) fly at each other at 20 m/s:
     with contact they never come closer than half the contact distance, momentum is
