@@ -77,8 +77,11 @@ def pull(model: Model, state, n: np.ndarray, s: float, commit: bool = True) -> f
 
 
 # ------------------------------------------------------------------------- energy
+# 2-D in the default selection; 1-D and 3-D (their own kernels to compile): the long tier
 @pytest.mark.parametrize("law", ["bilinear", "trilinear"])
-@pytest.mark.parametrize("dim", [1, 2, 3])
+@pytest.mark.parametrize(
+    "dim", [pytest.param(1, marks=pytest.mark.long), 2, pytest.param(3, marks=pytest.mark.long)]
+)
 def test_energy_to_break_one_bond_is_its_share_of_g0(law: str, dim: int) -> None:
     model, n = soft_model(dim, law)
     env = model.force_model.envelope
