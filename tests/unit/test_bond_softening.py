@@ -21,6 +21,9 @@ from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import reference_softening as ref
 from peridynamics.kernels.reference import stretch
 
+# the long tier (CI: pytest -m long): the softening kernels compile for about a minute cold
+pytestmark = pytest.mark.long
+
 E, RHO, FT, G0 = 30e9, 2400.0, 3e6, 20.0  # concrete-like: s0 = f_t / E = 1e-4
 H = 1e-3  # 2-D thickness, 1-D area (m, m^2)
 KNEES = {"bilinear": (0.5, 0.5), "trilinear": (2.0 / 9.0, 1.0 / 3.0)}  # Petersson

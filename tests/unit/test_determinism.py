@@ -20,10 +20,9 @@ def _fresh(kernel):
     return numba.njit(**opts)(kernel.py_func)
 
 
-# 1-D in the default selection; 2-D and 3-D compile their kernels afresh: the long tier
-@pytest.mark.parametrize(
-    "dim", [1, pytest.param(2, marks=pytest.mark.long), pytest.param(3, marks=pytest.mark.long)]
-)
+# the long tier (CI: pytest -m long): the test compiles its kernels afresh by design
+@pytest.mark.long
+@pytest.mark.parametrize("dim", [1, 2, 3])
 def test_fresh_and_cached_kernels_agree_bitwise(dim: int) -> None:
     cloud = {1: bar(0.05, 1e-3), 2: rectangle((0.01, 0.01), 5e-4), 3: box((0.008,) * 3, 1e-3)}[dim]
     bonds = build_bonds(cloud, 3.015 * cloud.spacing)

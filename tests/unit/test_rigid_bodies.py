@@ -14,6 +14,9 @@ from peridynamics.io import deck as dk
 from peridynamics.kernels.reference_rigid_contact import rigid_shape_force_reference
 from peridynamics.runner import SetupError, Simulation
 
+# the long tier (CI: pytest -m long): rigid-body runs (their kernels compile for a minute cold)
+pytestmark = pytest.mark.long
+
 G = 9.81
 
 SLIDE = {
