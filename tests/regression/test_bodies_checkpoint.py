@@ -6,9 +6,12 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pytest
 import yaml
 
 from tests.helpers import EXAMPLES, cli
+
+pytestmark = pytest.mark.long  # runs and resumes example decks (CI: pytest -m long)
 
 
 def _same(a, b) -> None:

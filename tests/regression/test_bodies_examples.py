@@ -62,6 +62,7 @@ def _crack(folder: Path, dx: float, threshold: float) -> tuple[float, float]:
     return float(x[hit, 1].max()), float(np.abs(x[hit, 0]).max())
 
 
+@pytest.mark.long
 def test_bend_softening_small(tmp_path: Path) -> None:
     """Bilinear softening bonds, dx = 5 mm: the load peaks between the strength bounds of
     the ligament and below LEFM (size effect), then softens gradually to below half the
@@ -90,6 +91,7 @@ def test_bend_softening_small(tmp_path: Path) -> None:
     assert _drop_width(r) > 0.5  # a gradual tail
 
 
+@pytest.mark.long
 def test_bend_brittle_small(tmp_path: Path) -> None:
     """The brittle bond of the same fracture energy, dx = 5 mm: a higher peak, then the
     load collapses within a small fraction of the displacement at the peak (no tail)."""
@@ -101,6 +103,7 @@ def test_bend_brittle_small(tmp_path: Path) -> None:
     assert top > 0.8 * res["geometry"]["depth_m"] and wide <= 5.0e-3  # through, straight
 
 
+@pytest.mark.long
 def test_inclusions_small(tmp_path: Path) -> None:
     """dx = 1 mm (1 600 points), the weak interface: the plate fails (the load falls
     below half its peak), interface bonds break in a larger share than mortar bonds and

@@ -31,6 +31,7 @@ def _run(tmp_path: Path, *ratios: str) -> dict:
     return json.loads((tmp_path / "brazilian_disc.json").read_text())
 
 
+@pytest.mark.long
 def test_small_disc_splits_from_the_centre(tmp_path: Path) -> None:
     """D/dx = 30 (716 points): the first damage is at the centre, the crack runs along
     the loaded diameter, the strength is close to the bonds' f_t, the loading is

@@ -33,6 +33,7 @@ def _same_results(a, b) -> None:
         assert np.array_equal(fa[key], fb[key]), key
 
 
+@pytest.mark.long
 def test_resume_after_crash_is_bitwise_identical(tmp_path) -> None:
     ref, crashed = tmp_path / "ref", tmp_path / "crashed"
     args = [*SMALL, "--set", "solver.end_time=40e-6", "--quiet"]
@@ -55,6 +56,7 @@ def test_resume_after_crash_is_bitwise_identical(tmp_path) -> None:
     assert pvd.count("<DataSet") == len(list(crashed.glob("frame_*.vtu")))
 
 
+@pytest.mark.long
 def test_resume_after_sigkill(tmp_path) -> None:
     ref, killed = tmp_path / "ref", tmp_path / "killed"
     deck = str(EXAMPLES / "plate_tension_2d" / "deck.yaml")
@@ -90,6 +92,7 @@ def test_resume_without_checkpoint_is_clear(tmp_path) -> None:
     assert "no checkpoint" in proc.stderr
 
 
+@pytest.mark.long
 def test_static_solver_resumes_after_crash(tmp_path) -> None:
     """A static run with bond breaking resumes from its checkpoint: the load level, the
     bonds and the pending break are restored, and the run ends where an uninterrupted

@@ -34,6 +34,7 @@ def _run(tmp_path: Path, case: str, *sets: str) -> dict:
     return res
 
 
+@pytest.mark.long
 def test_plate_small(tmp_path: Path) -> None:
     """dx = 2.5 mm (1 150 points): every variant runs; LBSCMM is smooth and close to
     FEM, the plain model oscillates more."""
@@ -48,6 +49,7 @@ def test_plate_small(tmp_path: Path) -> None:
         assert np.isfinite(v["reaction_N"])
 
 
+@pytest.mark.long
 def test_three_point_bend_small(tmp_path: Path) -> None:
     """dx = 2 mm, the load point pushed 0.15 mm in 6 load steps, LBSCMM only: the crack
     starts at the notch tip and runs up the notch plane."""

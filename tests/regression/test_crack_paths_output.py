@@ -10,6 +10,8 @@ import pytest
 
 from tests.helpers import EXAMPLES, cli
 
+pytestmark = pytest.mark.long  # a Kalthoff-Winkler run (CI: pytest -m long)
+
 
 def test_kalthoff_winkler_crack_paths_in_summary(tmp_path) -> None:
     out = tmp_path / "kw"

@@ -7,7 +7,11 @@ import importlib.util
 import time
 from pathlib import Path
 
+import pytest
+
 from tests.helpers import EXAMPLES
+
+pytestmark = pytest.mark.long  # the figure script (CI: pytest -m long)
 
 SCRIPT = EXAMPLES / "dispersion" / "make_figures.py"
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"

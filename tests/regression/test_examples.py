@@ -11,13 +11,13 @@ import math
 import numpy as np
 import pytest
 
-from tests.helpers import EXAMPLES, cli
+from tests.helpers import BAR_WAVE, BRANCHING, EXAMPLES, PLATE
 
 
-def _run(tmp_path, name: str, *overrides: str, deck: str = "deck.yaml") -> dict:
-    out = tmp_path / name
-    sets = [a for o in overrides for a in ("--set", o)]
-    cli("run", str(EXAMPLES / name / deck), "--out", str(out), "--quiet", *sets, check=True)
+def _run(example_run, name: str, *overrides: str, deck: str = "deck.yaml") -> dict:
+    """The run of ``examples/<name>/<deck>`` with the overrides (the session's shared
+    run, ``tests/conftest.py``: the gallery tests read the same one); checks its files."""
+    out = example_run(name, deck, *overrides)
     summary = json.loads((out / "summary.json").read_text())
     assert set(summary) >= {"inputs", "results", "timing", "versions"}
     assert summary["status"] == "completed"
@@ -32,8 +32,9 @@ def _run(tmp_path, name: str, *overrides: str, deck: str = "deck.yaml") -> dict:
     return summary
 
 
-def test_bar_wave_1d_arrival_time(tmp_path) -> None:
-    s = _run(tmp_path, "bar_wave_1d")
+def test_bar_wave_1d_arrival_time(example_run) -> None:
+    # dx = 10 mm (101 points), dt = 2 us: the shipped Courant number, the gallery's run
+    s = _run(example_run, "bar_wave_1d", *BAR_WAVE)
     r = s["results"]
     c = math.sqrt(20e9 / 2620.0)
     gauge = r["probes"]["gauge_velocity"]
@@ -45,8 +46,8 @@ def test_bar_wave_1d_arrival_time(tmp_path) -> None:
     assert gauge["peak"] == pytest.approx(8.9e6 / (2620.0 * c), rel=0.03)
 
 
-def test_plate_tension_2d_matches_static_solution(tmp_path) -> None:
-    s = _run(tmp_path, "plate_tension_2d", "discretisation.spacing=1e-3")
+def test_plate_tension_2d_matches_static_solution(example_run) -> None:
+    s = _run(example_run, "plate_tension_2d", *PLATE)
     p = s["results"]["probes"]
     t = np.asarray(p["right_ux"]["time_s"])
     late = t > 60e-6  # after the ramp: oscillation about the static state
@@ -57,12 +58,12 @@ def test_plate_tension_2d_matches_static_solution(tmp_path) -> None:
     assert lateral == pytest.approx(-(1 / 3) * 10e6 / 70e9 * (0.02 - 1e-3), rel=0.05)
 
 
-def test_plate_tension_2d_static_by_adr(tmp_path) -> None:
+def test_plate_tension_2d_static_by_adr(example_run) -> None:
     """The same plate with constant tractions and just `solver: {type: adr}`: converges
     with the defaults to the static state of the model (measured at dx = 1 mm:
     elongation 0.979 of the continuum value, the same 2 % deficit of the layer traction
     and the edge rows that the explicit run, which oscillates about this state, shows)."""
-    s = _run(tmp_path, "plate_tension_2d", "discretisation.spacing=1e-3", deck="adr.yaml")
+    s = _run(example_run, "plate_tension_2d", *PLATE, deck="adr.yaml")
     r = s["results"]
     assert r["converged"] is True and r["steps"] == 1
     assert 0 < r["residual"] <= 1e-8
@@ -87,14 +88,14 @@ def test_plate_tension_2d_static_by_adr(tmp_path) -> None:
 _C_R_MODEL = 0.9194 * math.sqrt(0.855 * 65e9 / (2 * (1 + 1 / 3)) / 2235.0)
 
 
-def test_static_fracture_load_displacement_curve(tmp_path) -> None:
+@pytest.mark.long
+def test_static_fracture_load_displacement_curve(example_run) -> None:
     """ADR with damage committed per load step: the reaction rises linearly, peaks when
     bonds start to break at the notch tip, and drops to ~0 once the ligament is cut.
     Measured at dx = 1 mm (450 points, 29 890 iterations, 1.5 s on AMD EPYC 2 cores):
     62.48 N per load step, peak 312.53 N at step 6 (0.833 of the linear 375 N),
     9.49 N at step 7, below 0.006 N from step 8 on; 410 directed bonds broken."""
-    s = _run(tmp_path, "static_fracture",
-             deck="notched_plate_adr.yaml")  # fmt: skip
+    s = _run(example_run, "static_fracture", deck="notched_plate_adr.yaml")
     r = s["results"]
     assert r["converged"] is True and r["not_converged_load_steps"] == []
     reaction = np.asarray(r["probes"]["reaction"]["values"])
@@ -111,14 +112,9 @@ def test_static_fracture_load_displacement_curve(tmp_path) -> None:
     assert r["bonds_broken"] == pytest.approx(410, rel=0.05)
 
 
-def test_crack_branching_small(tmp_path) -> None:
-    s = _run(
-        tmp_path,
-        "crack_branching_2d",
-        "discretisation.spacing=5e-4",
-        "discretisation.horizon=2e-3",
-        "output.vtk_every=0",
-    )
+@pytest.mark.long
+def test_crack_branching_small(example_run) -> None:
+    s = _run(example_run, "crack_branching_2d", *BRANCHING)
     r = s["results"]
     # Measured (16 000 points, 417 steps); every number below is the same in the last
     # digit with default threads (2), NUMBA_NUM_THREADS=1 and NUMBA_CPU_NAME=generic
@@ -137,8 +133,8 @@ def test_crack_branching_small(tmp_path) -> None:
 
 
 @pytest.mark.slow
-def test_crack_branching_paper_scale(tmp_path) -> None:
-    s = _run(tmp_path, "crack_branching_2d")
+def test_crack_branching_paper_scale(example_run) -> None:
+    s = _run(example_run, "crack_branching_2d")
     r = s["results"]
     assert r["n_points"] == 64000
     assert r["crack_branched"] is True
@@ -147,9 +143,15 @@ def test_crack_branching_paper_scale(tmp_path) -> None:
 
 
 _DECKS = sorted(p for p in EXAMPLES.rglob("*.yaml"))
+#: decks whose set-up alone (bonds of tens of thousands of points) takes seconds: long tier
+_LARGE = {"crack_branching_2d/deck.yaml", "kalthoff_winkler/deck.yaml"}
+_DECK_PARAMS = [
+    pytest.param(p, marks=pytest.mark.long) if str(p.relative_to(EXAMPLES)) in _LARGE else p
+    for p in _DECKS
+]
 
 
-@pytest.mark.parametrize("deck", _DECKS, ids=[str(p.relative_to(EXAMPLES)) for p in _DECKS])
+@pytest.mark.parametrize("deck", _DECK_PARAMS, ids=[str(p.relative_to(EXAMPLES)) for p in _DECKS])
 def test_every_example_deck_sets_up(deck) -> None:
     """Every shipped deck validates and builds its model and solver (the stable-step
     check included), whether or not another test runs it."""

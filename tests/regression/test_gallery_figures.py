@@ -3,8 +3,10 @@
 the numbers it derives agree with its reference.
 
 ``tests/regression/test_examples.py`` runs the decks themselves through the CLI; these
-tests check what the scripts add: the analytic and FEM references they compute (from the
-deck with its overrides), the quantities derived from the probes and the figure.
+tests re-analyse the same runs (``--no-run`` on a copy of the session's shared run,
+``example_run`` of ``tests/conftest.py``) and check what the scripts add: the analytic
+and FEM references they compute (from the deck with its overrides), the quantities
+derived from the probes and the figure.
 Tolerances are set from the values measured at the same size (in the comments) with
 margin.
 """
@@ -12,12 +14,14 @@ margin.
 from __future__ import annotations
 
 import json
+import shutil
+from collections.abc import Callable
 from pathlib import Path
 from types import ModuleType
 
 import pytest
 
-from tests.helpers import EXAMPLES, load_script
+from tests.helpers import BAR_WAVE, EXAMPLES, PLATE, load_script
 
 
 def _script(folder: str) -> ModuleType:
@@ -30,19 +34,15 @@ def _run(tmp_path: Path, folder: str, case: str, *args: str) -> dict:
     return json.loads((tmp_path / f"{case}.json").read_text())
 
 
-def test_bar_wave_1d_figure(tmp_path: Path) -> None:
+def _sets(overrides: tuple[str, ...]) -> list[str]:
+    return [a for o in overrides for a in ("--set", o)]
+
+
+@pytest.mark.long
+def test_bar_wave_1d_figure(tmp_path: Path, example_run: Callable[..., Path]) -> None:
     # dx = 10 mm (101 points) with dt = 2 us: the shipped Courant number c dt / dx = 0.55
-    res = _run(
-        tmp_path,
-        "bar_wave_1d",
-        "bar_wave_1d",
-        "--set",
-        "discretisation.spacing=0.01",
-        "--set",
-        "solver.time_step=2e-6",
-        "--set",
-        "output.vtk_every=0",
-    )
+    out = shutil.copytree(example_run("bar_wave_1d", "deck.yaml", *BAR_WAVE), tmp_path / "run")
+    res = _run(out, "bar_wave_1d", "bar_wave_1d", "--no-run", *_sets(BAR_WAVE))
     # the reference from the deck: c = sqrt(20 GPa / 2620) = 2762.9 m/s, v = 8.9 MPa / (rho c)
     assert res["wave_speed_m_per_s"] == pytest.approx(2762.8948, rel=1e-6)
     assert res["peak_velocity_reference_m_per_s"] == pytest.approx(1.229488, rel=1e-6)
@@ -58,16 +58,11 @@ def test_bar_wave_1d_figure(tmp_path: Path) -> None:
     assert res["velocity_l2_error_relative"] < 0.2
 
 
-def test_plate_tension_2d_figure(tmp_path: Path) -> None:
-    res = _run(
-        tmp_path,
-        "plate_tension_2d",
-        "plate_tension_2d",
-        "--set",
-        "discretisation.spacing=1e-3",
-        "--set",
-        "output.vtk_every=0",
-    )
+@pytest.mark.long
+def test_plate_tension_2d_figure(tmp_path: Path, example_run: Callable[..., Path]) -> None:
+    for name, deck in (("explicit", "deck.yaml"), ("adr", "adr.yaml")):
+        shutil.copytree(example_run("plate_tension_2d", deck, *PLATE), tmp_path / name)
+    res = _run(tmp_path, "plate_tension_2d", "plate_tension_2d", "--no-run", *_sets(PLATE))
     assert (tmp_path / "explicit" / "summary.json").exists()
     assert (tmp_path / "adr" / "summary.json").exists()
     # the gauges between the probed rows: L - dx and H - dx
@@ -90,10 +85,13 @@ def test_plate_tension_2d_figure(tmp_path: Path) -> None:
     assert res["explicit_over_adr_lateral"] == pytest.approx(1.0, abs=0.01)
 
 
-def test_static_fracture_figure(tmp_path: Path) -> None:
+@pytest.mark.long
+def test_static_fracture_figure(tmp_path: Path, example_run: Callable[..., Path]) -> None:
     pytest.importorskip("skfem")
     # the deck as shipped (450 points), the FEM reference on 1 mm elements (P2)
-    res = _run(tmp_path, "static_fracture", "notched_plate_adr", "--fem-h", "1e-3")
+    run = example_run("static_fracture", "notched_plate_adr.yaml")
+    out = shutil.copytree(run, tmp_path / "run")
+    res = _run(out, "static_fracture", "notched_plate_adr", "--no-run", "--fem-h", "1e-3")
     # measured: PD 31.24 N/um, FEM 31.95 N/um (clamp faces at 1.5 mm; 31.65 on 0.5 mm
     # elements), band 30.6-32.8 for the faces at 1.0-2.0 mm; steps 1-5 proportional to
     # 2e-4; G0 = 151.2 J/m^2; LEFM growth load 343.5 N (341.2 on 0.5 mm elements); the

@@ -1,31 +1,32 @@
 """The figure script of the research example (``examples/research/make_figures.py``) at
-the coarse grid of ``test_research_example.py`` (1000 points; the deck's own figures and
-PNG frames off: that file checks them): the load-CMOD numbers, the energy balance and
-the figure the script adds."""
+the coarse grid of ``test_research_example.py`` (1000 points), re-analysing that test's
+run (``--no-run`` on a copy of the session's shared run, ``tests/conftest.py``): the
+load-CMOD numbers, the energy balance and the figure the script adds."""
 
 from __future__ import annotations
 
 import json
+import shutil
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
 
-from tests.helpers import EXAMPLES, load_script
+from tests.helpers import EXAMPLES, RESEARCH, load_script
+
+pytestmark = pytest.mark.long  # the research run and its figures (CI: pytest -m long)
 
 SCRIPT = EXAMPLES / "research" / "make_figures.py"
 
 
-def test_make_figures_small(tmp_path: Path) -> None:
+def test_make_figures_small(tmp_path: Path, example_run: Callable[..., Path]) -> None:
     mod = load_script(SCRIPT, "research_figures")
-    sets = [
-        "discretisation.spacing=1e-3",
-        "discretisation.horizon_factor=3",
-        "output.png_frames=false",
-        "output.plot=none",
-    ]
-    assert mod.main(["--out", str(tmp_path)] + [a for s in sets for a in ("--set", s)]) == 0
-    res = json.loads((tmp_path / "notched_plate.json").read_text())
-    assert (tmp_path / "notched_plate.png").stat().st_size > 1000
+    run = example_run("research", "notched_plate.yaml", *RESEARCH)  # test_research_example's
+    out = shutil.copytree(run, tmp_path / "run")
+    sets = [a for s in RESEARCH for a in ("--set", s)]
+    assert mod.main(["--out", str(out), "--no-run", *sets]) == 0
+    res = json.loads((out / "notched_plate.json").read_text())
+    assert (out / "notched_plate.png").stat().st_size > 1000
     # measured at this grid: peak 2209 N (1 mm thick) at 18.8 us with CMOD 14.3 um;
     # 5 % for a bond decision that flips elsewhere
     assert res["peak_load_N"] == pytest.approx(2209.0, rel=0.05)

@@ -46,6 +46,7 @@ def _check_common(r: dict) -> None:
     assert np.max(r["history"]["old_tip_distance_m"]) > 0.11
 
 
+@pytest.mark.long
 def test_kalthoff_winkler_small(tmp_path) -> None:
     """dx = 1.25 mm (12 800 points, 450 steps; a few seconds). Measured: 59.9 deg.
     Tolerance 5 deg: moving the end of the 20 mm chord by one spacing sideways turns it

@@ -87,6 +87,7 @@ def test_finite_plate_reference_tends_to_kirsch() -> None:
     assert excess[1] == pytest.approx(0.033, abs=0.002)
 
 
+@pytest.mark.long
 def test_plate_hole_small_size_matches_kirsch(tmp_path: Path) -> None:
     """a = 5 dx (6320 points, delta = 0.8 a). Measured at r = a + 2 delta (2.61 a), 3 a,
     4 a: +0.66, +0.50, -0.56 % against Kirsch; -2.14, -2.01, -2.17 % against the same

@@ -33,6 +33,7 @@ def _run(tmp_path: Path, case: str, *sets: str) -> dict:
     return res
 
 
+@pytest.mark.long
 def test_cantilever_small(tmp_path: Path) -> None:
     pytest.importorskip("skfem")
     res = _run(
@@ -48,6 +49,7 @@ def test_cantilever_small(tmp_path: Path) -> None:
     assert 0.95 < res["tip_ratio_pd_to_tg"] < 1.03
 
 
+@pytest.mark.long
 def test_dcb_small(tmp_path: Path) -> None:
     res = _run(
         tmp_path,
@@ -70,6 +72,7 @@ def test_dcb_small(tmp_path: Path) -> None:
     assert 0.95 < res["p_over_p_lefm_mean"] < 1.4
 
 
+@pytest.mark.long
 def test_l_panel_small(tmp_path: Path) -> None:
     res = _run(
         tmp_path,
@@ -93,6 +96,7 @@ def test_l_panel_small(tmp_path: Path) -> None:
     assert 10.0 < res["peak_load_kN"] < 20.0
 
 
+@pytest.mark.long
 def test_cantilever_paper_resolution(tmp_path: Path) -> None:
     """The paper's cantilever (dx = 0.01 m, 100 x 30): measured u_y 0.994 and u_x 0.984
     of the FEM reference at the same points (the paper claims < 1 % for both: u_x misses

@@ -1,29 +1,31 @@
 """The research-outputs example ``examples/research/notched_plate.yaml`` at a coarser
 grid: a derived crack-mouth opening, events and their frames, history.csv, several
 figures and the broken-bond crack length, all from one run with the deck's own output
-settings."""
+settings (the gallery test ``test_gallery_research.py`` re-analyses the same run)."""
 
 from __future__ import annotations
 
 import csv
+import json
+from collections.abc import Callable
 from pathlib import Path
 
 import meshio
 import numpy as np
 import pytest
 
-from peridynamics.app.run import Simulation
-from peridynamics.deck import load_deck
-from tests.helpers import EXAMPLES
+from tests.helpers import EXAMPLES, RESEARCH
+
+pytestmark = pytest.mark.long  # the research run (CI: pytest -m long)
 
 DECK = EXAMPLES / "research" / "notched_plate.yaml"
 
 
 @pytest.fixture(scope="module")
-def run(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
-    out = tmp_path_factory.mktemp("notched")
-    deck = load_deck(DECK, ["discretisation.spacing=1e-3", "discretisation.horizon_factor=3"])
-    return out, Simulation.from_deck(deck).run(out, quiet=True, progress=False)
+def run(example_run: Callable[..., Path]) -> tuple[Path, dict]:
+    """The session's shared run (``tests/conftest.py``; the gallery test reads it too)."""
+    out = example_run("research", DECK.name, *RESEARCH)
+    return out, json.loads((out / "summary.json").read_text())
 
 
 def test_events_happen_in_order_and_write_their_frames(run) -> None:

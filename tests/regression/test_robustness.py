@@ -56,6 +56,7 @@ def test_time_step_above_limit_is_refused(tmp_path) -> None:
     assert "solver.time_step" in proc.stderr and "allow_unstable" in proc.stderr
 
 
+@pytest.mark.long
 def test_3d_box_with_rectangle_crack_runs(tmp_path) -> None:
     deck = {
         "name": "box3d",

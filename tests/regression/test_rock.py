@@ -32,6 +32,7 @@ def _load(name: str):
     return mod
 
 
+@pytest.mark.long
 def test_contract_through_the_cli(tmp_path) -> None:
     cli("run", str(RC / "flaw30_m10.yaml"), "--out", str(tmp_path), *COARSE, check=True)
     summary = json.loads((tmp_path / "summary.json").read_text())
@@ -67,6 +68,7 @@ def test_contract_through_the_cli(tmp_path) -> None:
     assert (tmp_path / "flaw30_m10_damage.png").exists()
 
 
+@pytest.mark.long
 def test_ensemble_command(tmp_path) -> None:
     cli("ensemble", str(RC / "flaw30_m2.yaml"), "--n", "2", "--seed0", "3", "--out",
         str(tmp_path), "--quiet", *COARSE, "--set", "output.plot=none", check=True)  # fmt: skip
@@ -88,6 +90,7 @@ def test_ensemble_command(tmp_path) -> None:
     assert bad.returncode == 2 and "weibull" in bad.stderr
 
 
+@pytest.mark.long
 def test_flaw_analysis_script_small(tmp_path) -> None:
     mod = _load("analyse")
     sets = [COARSE[i + 1] for i in range(0, len(COARSE), 2)]
@@ -119,6 +122,7 @@ def test_flaw_analysis_script_small(tmp_path) -> None:
     assert (tmp_path / "double_flaw45_stages.png").exists()
 
 
+@pytest.mark.long
 def test_contact_stops_two_blocks_interpenetrating_in_a_model() -> None:
     """Two plates 2 mm apart (no bonds across: gap > delta) fly at each other at 20 m/s:
     with contact they never come closer than half the contact distance, momentum is

@@ -50,6 +50,7 @@ def rows(tmp_path_factory) -> dict[int, dict]:
     return {n: make_table.run_case(n, tmp / f"case{n}") for n in PAPER_TABLE1}
 
 
+@pytest.mark.long
 @pytest.mark.parametrize("case", range(1, 8))
 def test_table1_case_matches_the_paper(rows, case: int) -> None:
     dx, (lo, hi), t_paper = PAPER_TABLE1[case]
@@ -75,6 +76,7 @@ def test_table1_case_matches_the_paper(rows, case: int) -> None:
     assert r["t_F_error"] == pytest.approx(t_ms / t_paper - 1.0, abs=1e-12)
 
 
+@pytest.mark.long
 def test_table1_trends(rows) -> None:
     base, longer, stronger = rows[1], rows[6], rows[7]
     # a longer pulse moves the spall away from the free end (x = 1 m)
@@ -84,6 +86,7 @@ def test_table1_trends(rows) -> None:
     assert stronger["t_F_ms"] < base["t_F_ms"]
 
 
+@pytest.mark.long
 def test_contract_through_the_cli(tmp_path) -> None:
     r = _run_results(tmp_path, "table1_case1")
     assert len(r["fracture_position_m"]) == 2
@@ -111,6 +114,7 @@ def _probe(results: dict, name: str = "stress_at_0_5m"):
     return np.array(r["time_s"]), np.array(r["values"])
 
 
+@pytest.mark.long
 def test_fig7a_wave_test_fdm_equals_pd1_and_dispersion_grows_with_m(tmp_path) -> None:
     import numpy as np
 
@@ -128,6 +132,7 @@ def test_fig7a_wave_test_fdm_equals_pd1_and_dispersion_grows_with_m(tmp_path) ->
     assert runs["pd_m8"][1].max() > 3 * runs["pd_m1"][1].max()
 
 
+@pytest.mark.long
 def test_table2_test_bar_schemes(tmp_path) -> None:
     res = {k: _run_results(tmp_path, f"test_bar_{k}") for k in ("pd3", "pd1_pd3", "fdm_pd3")}
     for kind in ("pd1_pd3", "fdm_pd3"):
@@ -141,6 +146,7 @@ def test_table2_test_bar_schemes(tmp_path) -> None:
         assert 0.78 <= r["fracture_position_m"][0] <= r["fracture_position_m"][1] <= 0.87
 
 
+@pytest.mark.long
 def test_spalling_figures(tmp_path) -> None:
     spec = importlib.util.spec_from_file_location(
         "spalling_figures", EXAMPLES / "spalling" / "make_figures.py"
@@ -158,6 +164,7 @@ def test_spalling_figures(tmp_path) -> None:
         assert p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and p.stat().st_size > 5000
 
 
+@pytest.mark.long
 def test_table2_timing_script_on_a_refined_bar() -> None:
     """time_table2 at dx = 1 mm: every scheme fractures, all at the observed 0.79-0.80 m
     (refinement removes the PD3 offset), the hybrids after switching. No wall-time

@@ -22,6 +22,7 @@ def _script():
     return mod
 
 
+@pytest.mark.long
 def test_coarse_striker_runs_and_the_ball_is_stopped(tmp_path: Path) -> None:
     """1 mm grid for 15 us (6 400 points), one jittered seed: the ball touches the plate, slows
     down and breaks bonds under the impact; the figure and the numbers are written."""

@@ -39,6 +39,7 @@ def pulses() -> dict:
     }
 
 
+@pytest.mark.long
 @pytest.mark.parametrize("shape", ["sine", "square"])
 def test_viscosity_removes_the_trailing_oscillation(pulses, shape: str) -> None:
     plain = pulses[(shape, "plain")]
@@ -50,6 +51,7 @@ def test_viscosity_removes_the_trailing_oscillation(pulses, shape: str) -> None:
     assert plain["trailing_oscillation"] > 0.03
 
 
+@pytest.mark.long
 def test_square_pulse_overshoot_is_removed_and_sine_peak_cost_is_bounded(pulses) -> None:
     assert pulses[("square", "plain")]["peak_ratio"] > 1.15  # Gibbs-like overshoot
     assert pulses[("square", "polynomial")]["peak_ratio"] == pytest.approx(1.0, abs=0.05)
@@ -57,6 +59,7 @@ def test_square_pulse_overshoot_is_removed_and_sine_peak_cost_is_bounded(pulses)
     assert 0.85 < pulses[("sine", "polynomial")]["peak_ratio"] < 0.97
 
 
+@pytest.mark.long
 def test_pulse_contract_through_the_cli(tmp_path) -> None:
     cli("run", str(EXAMPLES / "waves" / "pulse_square_polynomial.yaml"), "--out", str(tmp_path),
         check=True)  # fmt: skip
@@ -83,6 +86,7 @@ def test_dominant_period_and_spectrum() -> None:
         dominant_period(t, np.ones_like(t))
 
 
+@pytest.mark.long
 @pytest.mark.parametrize("charge", [1, 80])
 def test_blast_bar_period_is_the_transit_time(tmp_path, charge: int) -> None:
     """Fronts cross the midpoint every L / v0 = 203.9 us (PD wave dispersion (n.d.), eq. 59):
@@ -101,6 +105,7 @@ def test_blast_bar_period_is_the_transit_time(tmp_path, charge: int) -> None:
     assert 1.5 * p_r < abs(r["probes"]["stress_A"]["peak"]) < 3.0 * p_r
 
 
+@pytest.mark.long
 def test_blast_bar_viscosity_lowers_post_peak_oscillation() -> None:
     """Polynomial viscosity removes high-frequency energy from the midpoint stress."""
     out = {}
@@ -123,6 +128,7 @@ def test_blast_bar_viscosity_lowers_post_peak_oscillation() -> None:
     assert poly[low].sum() == pytest.approx(plain[low].sum(), rel=0.1)  # not at low f
 
 
+@pytest.mark.long
 def test_ring_script_small(tmp_path) -> None:
     """ring.py at h = 20 mm: runs, writes its figures and a finite anisotropy index."""
     import importlib.util
@@ -140,6 +146,7 @@ def test_ring_script_small(tmp_path) -> None:
     assert (tmp_path / "seed003_fig21_ring.png").exists()
 
 
+@pytest.mark.long
 def test_wave_figures_script(tmp_path) -> None:
     import importlib.util
 

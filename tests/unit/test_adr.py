@@ -7,9 +7,6 @@ bit-for-bit equality for checkpoint/resume.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-
-import numba
 import numpy as np
 import pytest
 
@@ -31,14 +28,8 @@ from peridynamics.solvers.explicit import SimulationUnstable
 E, RHO = 70e9, 2700.0
 
 
-@pytest.fixture(autouse=True)
-def _one_thread() -> Iterator[None]:
-    """Small problems: one Numba thread is faster than several on a busy machine (the
-    results do not depend on the thread count)."""
-    before = numba.get_num_threads()
-    numba.set_num_threads(1)
-    yield
-    numba.set_num_threads(before)
+# small problems: one Numba thread is faster than several (results do not depend on it)
+pytestmark = pytest.mark.usefixtures("serial_numba")
 
 
 def _plate_model(nx: int = 10, ny: int = 6, **kw: object) -> Evaluator:

@@ -22,6 +22,9 @@ from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import reference_softening as ref
 from peridynamics.kernels.reference import stretch
 
+# the long tier (CI: pytest -m long): the softening kernels compile for about a minute cold
+pytestmark = pytest.mark.long
+
 E, RHO, FT, G0 = 30e9, 2400.0, 3e6, 20.0  # concrete-like: s0 = f_t / E = 1e-4
 H = 1e-3  # 2-D thickness, 1-D area (m, m^2)
 KNEES = {"bilinear": (0.5, 0.5), "trilinear": (2.0 / 9.0, 1.0 / 3.0)}  # Petersson
@@ -78,8 +81,11 @@ def pull(model: Evaluator, state, n: np.ndarray, s: float, commit: bool = True) 
 
 
 # ------------------------------------------------------------------------- energy
+# 2-D in the default selection; 1-D and 3-D (their own kernels to compile): the long tier
 @pytest.mark.parametrize("law", ["bilinear", "trilinear"])
-@pytest.mark.parametrize("dim", [1, 2, 3])
+@pytest.mark.parametrize(
+    "dim", [pytest.param(1, marks=pytest.mark.long), 2, pytest.param(3, marks=pytest.mark.long)]
+)
 def test_energy_to_break_one_bond_is_its_share_of_g0(law: str, dim: int) -> None:
     model, n = soft_model(dim, law)
     env = model.force_model.envelope

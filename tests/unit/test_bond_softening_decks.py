@@ -25,6 +25,7 @@ E, RHO, FT, G0 = 30e9, 2400.0, 3e6, 20.0  # concrete-like: s0 = f_t / E = 1e-4
 H = 1e-3  # plate thickness (m)
 
 
+@pytest.mark.long
 def test_dynamic_relaxation_commits_on_accepted_load_steps() -> None:
     d = {
         "name": "bar",
@@ -108,6 +109,7 @@ def load_curve(d: dict, out: Path) -> np.ndarray:
     return -np.asarray(r["probes"]["F"]["values"])
 
 
+@pytest.mark.long
 def test_deck_plate_in_tension_has_a_softening_tail(tmp_path: Path) -> None:
     soft = load_curve(
         plate({"bond_law": "bilinear", "tensile_strength": FT, "fracture_energy": G0}),

@@ -1,40 +1,20 @@
 """The command line: `peridynamics check` exit codes and messages, `examples` list / copy.
 
-Each test runs ``python -m peridynamics`` in a subprocess with the source tree on
-PYTHONPATH (so the tests work without installing the package).
+Each test calls the command line in this process (``tests.helpers.cli``: ``cli.main``
+with stdout and stderr captured, the exit status returned).
 """
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 import yaml
 
 from peridynamics.deck import load_deck
+from tests.helpers import EXAMPLES, cli
 
-ROOT = Path(__file__).resolve().parents[2]
-SRC = ROOT / "src"
-EXAMPLES = ROOT / "examples"
 NAMES = ("crack_branching_2d", "bar_wave_1d", "plate_tension_2d")
-
-
-def cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess:
-    """Run ``python -m peridynamics ARGS``; returns the completed process."""
-    env = dict(os.environ)
-    if SRC.is_dir():
-        env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(SRC), env.get("PYTHONPATH")]))
-    return subprocess.run(
-        [sys.executable, "-m", "peridynamics", *map(str, args)],
-        capture_output=True,
-        text=True,
-        env=env,
-        cwd=cwd,
-        timeout=60,
-    )
 
 
 @pytest.mark.parametrize("name", NAMES)

@@ -245,6 +245,7 @@ def test_arguments_and_defaults() -> None:
         contact.rebuild(np.full_like(u, np.nan))
 
 
+@pytest.mark.long
 def test_two_blocks_collide_and_bounce_back_elastically() -> None:
     """Two 6 x 6 elastic blocks, every bond between them broken, fly at each other
     (+-v0): the contact keeps them apart, they bounce back, momentum is conserved and the

@@ -179,6 +179,7 @@ def test_principal_stress_criterion_breaks_at_the_tensile_strength() -> None:
     assert s1 == pytest.approx(1.001 * f_t, rel=1e-9)
 
 
+@pytest.mark.long
 def test_3d_box_in_uniaxial_tension_gives_e_and_nu() -> None:
     """Static linear solve of a correspondence box (direct, finite-difference tangent):
     E and nu from the interior displacement gradient within 2 %."""

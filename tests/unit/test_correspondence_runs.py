@@ -137,6 +137,7 @@ def test_explicit_pull_breaks_bonds_and_records_the_damage_factor(tmp_path: Path
     assert np.all(np.diff(factor) >= 0)
 
 
+@pytest.mark.long
 def test_static_newton_and_adr_agree(tmp_path: Path) -> None:
     """The implicit static solver (finite-difference tangent) and ADR give the same
     reaction of a pulled correspondence plate (SVK: geometrically nonlinear)."""

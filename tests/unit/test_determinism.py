@@ -20,6 +20,8 @@ def _fresh(kernel):
     return numba.njit(**opts)(kernel.py_func)
 
 
+# the long tier (CI: pytest -m long): the test compiles its kernels afresh by design
+@pytest.mark.long
 @pytest.mark.parametrize("dim", [1, 2, 3])
 def test_fresh_and_cached_kernels_agree_bitwise(dim: int) -> None:
     cloud = {1: bar(0.05, 1e-3), 2: rectangle((0.01, 0.01), 5e-4), 3: box((0.008,) * 3, 1e-3)}[dim]

@@ -3,6 +3,10 @@ cross-references; no internal link is broken and no image is missing; the pages 
 in headless Chromium with every image loaded. Skipped without the ``[docs]`` extra
 (Sphinx) and, for the browser part, without Debian's ``chromium``.
 
+The site is built (or read from ``PERIDYNAMICS_SITE``) by the ``docs`` tier
+(``pytest -m docs``, run by ``.ci/run``); the default selection keeps the cheap smoke
+test ``test_site_sources_are_linked`` (no Sphinx: the pages' toctree, links and images).
+
 Screenshots: ``PERIDYNAMICS_SITE_SCREENSHOTS=docs/img/site pytest tests/unit/test_docs_site.py``
 writes the landing page, a user-guide page, the deck reference and a gallery entry.
 ``PERIDYNAMICS_SITE=docs/_build/html`` tests a site already built by the README's
@@ -21,10 +25,8 @@ from urllib.parse import unquote, urlparse
 
 import pytest
 
-pytest.importorskip("sphinx", reason="Sphinx not installed (pip install '.[docs]')")
-pytest.importorskip("myst_parser", reason="myst-parser not installed (pip install '.[docs]')")
-
 ROOT = Path(__file__).resolve().parents[2]
+DOCS = ROOT / "docs"
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 SHOTS = {
     "landing.png": "index.html",
@@ -43,12 +45,53 @@ def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
     if built:
         assert (Path(built) / "index.html").is_file(), f"PERIDYNAMICS_SITE={built}: no site"
         return Path(built).resolve()
+    pytest.importorskip("sphinx", reason="Sphinx not installed (pip install '.[docs]')")
+    pytest.importorskip("myst_parser", reason="myst-parser not installed (pip install '.[docs]')")
     out = tmp_path_factory.mktemp("site")
     cmd = [sys.executable, "-m", "sphinx", "-W", "-n", "--keep-going", "-q", "-b", "html",
            str(ROOT / "docs"), str(out / "html"), "-d", str(out / "doctrees")]  # fmt: skip
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
     assert proc.returncode == 0, proc.stdout[-4000:] + proc.stderr[-4000:]
     return out / "html"
+
+
+def _toctree_entries(text: str) -> set[str]:
+    """The documents a page's MyST ``{toctree}`` blocks list."""
+    blocks = re.findall(r"```\{toctree\}\n(.*?)```", text, flags=re.S)
+    return {
+        line.strip()
+        for block in blocks
+        for line in block.splitlines()
+        if line.strip() and not line.strip().startswith(":")
+    }
+
+
+def _source(target: str) -> Path:
+    """The source of a page or image a page of ``docs/`` names: the file itself, or
+    for a gallery page what the gallery extension makes it from (an example folder,
+    ``examples/`` for the index, the README for the verification page)."""
+    if target.startswith("gallery/"):
+        name = Path(target).with_suffix("").name
+        if name == "verification":  # made from the README's measured results
+            return ROOT / "README.md"
+        return ROOT / "examples" / ("" if name == "index" else name)
+    return DOCS / target
+
+
+def test_site_sources_are_linked() -> None:
+    """The default selection's smoke test of the site, without Sphinx: every page of
+    ``docs/`` is in the index's toctree, and every page a toctree, link or image of a
+    page names exists (a gallery page: its example folder)."""
+    listed = _toctree_entries((DOCS / "index.md").read_text())
+    pages = {p.stem for p in DOCS.glob("*.md")} - {"index"}
+    assert pages <= listed, f"pages in no toctree: {sorted(pages - listed)}"
+    missing = [f"index.md toctree: {e}" for e in listed if not _source(e + ".md").exists()]
+    for page in DOCS.glob("*.md"):
+        text = page.read_text()
+        images = re.findall(r"!\[[^\]]*\]\(([^)\s]+)\)", text)
+        links = re.findall(r"(?<!!)\[[^\]]*\]\(([^)#\s:]+)(?:#[^)]*)?\)", text)
+        missing += [f"{page.name}: {t}" for t in images + links if not _source(t).exists()]
+    assert not missing, "\n".join(missing)
 
 
 class _Refs(HTMLParser):
@@ -74,6 +117,7 @@ def _parse(page: Path) -> _Refs:
     return p
 
 
+@pytest.mark.docs
 def test_site_pages(site: Path) -> None:
     pages = list(site.rglob("*.html"))
     assert len(pages) > 100
@@ -84,6 +128,7 @@ def test_site_pages(site: Path) -> None:
     assert "--backend" in cli and "--checkpoint-every" in cli  # from the parser
 
 
+@pytest.mark.docs
 def test_no_broken_link_or_missing_image(site: Path) -> None:
     parsed = {p: _parse(p) for p in site.rglob("*.html")}
     broken: list[str] = []
@@ -107,6 +152,7 @@ def test_no_broken_link_or_missing_image(site: Path) -> None:
     assert not broken, "\n".join(broken[:40])
 
 
+@pytest.mark.docs
 def test_help_topics_point_to_anchors_of_the_site(site: Path) -> None:
     """``peridynamics help deck.X`` ends with the section's address on the site."""
     from peridynamics.deck.help import section, topics
@@ -125,6 +171,7 @@ _CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-qui
                    "--disable-component-update", "--disable-sync"]  # fmt: skip
 
 
+@pytest.mark.docs
 @pytest.mark.skipif(CHROMIUM is None, reason="chromium not installed (apt install chromium)")
 def test_pages_render_in_chromium_with_every_image(site: Path, tmp_path: Path) -> None:
     gallery = sorted((site / "gallery").glob("*.html"))

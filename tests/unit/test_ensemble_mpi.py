@@ -39,6 +39,7 @@ def test_round_robin() -> None:
     assert assign(3, 1, 0) == [0, 1, 2]
 
 
+@pytest.mark.mpi
 @needs_mpi
 def test_mpi_ensemble_matches_serial(tmp_path: Path) -> None:
     par, ser = tmp_path / "mpi", tmp_path / "serial"
@@ -62,6 +63,7 @@ def test_mpi_ensemble_matches_serial(tmp_path: Path) -> None:
     assert all((par / f"seed_{s}" / "summary.json").is_file() for s in (4, 5, 6))
 
 
+@pytest.mark.mpi
 @needs_mpi
 def test_mpi_ensemble_problem_one_report(tmp_path: Path) -> None:
     # every member goes unstable within 10 steps: both ranks stop, rank 0 reports the

@@ -9,7 +9,6 @@ from __future__ import annotations
 import copy
 import json
 import math
-import os
 import signal
 import subprocess
 import sys
@@ -28,7 +27,7 @@ from peridynamics.build.estimates import estimate_size, estimate_steps
 from peridynamics.cli import main
 from peridynamics.deck import DeckError, load_deck, yaml_load
 from peridynamics.io.checkpoint import CHECKPOINT_NAME, read_checkpoint, read_checkpoint_meta
-from tests.helpers import EXAMPLES, ROOT
+from tests.helpers import EXAMPLES, subprocess_env
 
 BAR = EXAMPLES / "bar_wave_1d" / "deck.yaml"
 PLATE = EXAMPLES / "crack_branching_2d" / "deck.yaml"
@@ -93,9 +92,7 @@ def test_ctrl_c_stops_after_the_step_and_resumes_bitwise(tmp_path, capsys) -> No
 
 def test_sigint_to_the_command_line_exits_130_with_a_resume_hint(tmp_path) -> None:
     out = tmp_path / "run"
-    env = dict(
-        os.environ, PYTHONPATH=str(ROOT / "src") + os.pathsep + os.environ.get("PYTHONPATH", "")
-    )
+    env = subprocess_env()
     sets = ["solver.end_time=null", "solver.steps=1000000", "output.history_every=1000"]
     sets += ["output.plot=none", "output.vtk_every=0"]
     args = [sys.executable, "-m", "peridynamics", "run", str(BAR), "--out", str(out)]

@@ -119,6 +119,7 @@ def test_gross_factor_close_to_handbook(fem: ModuleType, default: Any) -> None:
     assert default.max_hole_stress() == pytest.approx(945.03e6, rel=1e-3)
 
 
+@pytest.mark.long
 def test_convergence_of_default_mesh(fem: ModuleType, default: Any) -> None:
     """Default (refine = 2) against refine = 3: peak hole stress and sample displacements."""
     fine = fem.solve_plate(refine=3)  # 144288 unknowns, about 6 s

@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import subprocess
 import sys
-from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
+from tests.helpers import PACKAGE_PARENT
+
 SCRIPT = """
 import sys
 sys.modules["warp"] = None      # import warp -> ImportError
@@ -30,6 +30,6 @@ print("\\n".join(failed) or "ok")
 def test_every_module_imports_without_warp_and_mpi4py() -> None:
     proc = subprocess.run(
         [sys.executable, "-c", SCRIPT], capture_output=True, text=True, timeout=300,
-        env={"PYTHONPATH": str(ROOT / "src"), "PATH": "/usr/bin:/bin"},
+        env={"PYTHONPATH": str(PACKAGE_PARENT), "PATH": "/usr/bin:/bin"},
     )  # fmt: skip
     assert proc.stdout.strip() == "ok", proc.stdout + proc.stderr[-2000:]

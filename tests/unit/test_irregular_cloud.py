@@ -200,7 +200,7 @@ def test_jitter_with_a_bar_or_mesh_geometry_is_a_setup_error(kind: str, tmp_path
 
 
 # -- the moment correction -----------------------------------------------------------------
-@pytest.mark.parametrize("dim", [2, 3])
+@pytest.mark.parametrize("dim", [2, pytest.param(3, marks=pytest.mark.long)])
 def test_moment_correction_gives_every_interior_point_the_continuum_energy(dim: int) -> None:
     """Under any homogeneous strain the corrected energy of an interior point of a
     jittered cloud is the continuum one, W = 1/2 eps : C : eps with C the isotropic

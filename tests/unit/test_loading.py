@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from peridynamics import BondBasedMaterial, ExplicitSolver, Evaluator, build_bonds
+from peridynamics import BondBasedMaterial, Evaluator, ExplicitSolver, build_bonds
 from peridynamics.geometry import Box, bar, rectangle
 from peridynamics.loading import (
     BodyForce,

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 import pytest
 import scipy.sparse as sp
@@ -29,16 +28,6 @@ from peridynamics.state import State
 DX = 1e-3
 E = 2.0e9
 RHO = 1500.0
-
-
-@pytest.fixture
-def serial_numba():
-    """One Numba thread: the finite-difference tangents call the kernels hundreds of times
-    on clouds of ~100 points, where a parallel launch costs more than the work."""
-    before = numba.get_num_threads()
-    numba.set_num_threads(1)
-    yield
-    numba.set_num_threads(before)
 
 
 def irregular_cloud(dim: int, seed: int, plane: Plane = "stress") -> PointCloud:

@@ -1,6 +1,9 @@
 """``mpiexec -n 2 peridynamics run``: the decomposed run gives the serial run's fields bit
 for bit (explicit dynamics: PMB crack branching; SED softening + Weibull + contact; LPS),
-resumes after one rank dies, and refuses what it cannot do with the key to change."""
+resumes after one rank dies, and refuses what it cannot do with the key to change.
+
+``test_two_ranks_lps`` is the default selection's MPI smoke test; the others are in the
+``mpi`` tier (``pytest -m mpi``, run by ``.ci/run``)."""
 
 from __future__ import annotations
 
@@ -98,6 +101,7 @@ SOFTENING = [
 ]  # fmt: skip
 
 
+@pytest.mark.mpi
 @pytest.mark.parametrize("case", ["branching", "rock", "softening"])
 def test_two_ranks_give_the_serial_run(tmp_path: Path, case: str) -> None:
     args = {"branching": BRANCHING, "rock": ROCK, "softening": SOFTENING}[case]
@@ -116,6 +120,8 @@ def test_two_ranks_give_the_serial_run(tmp_path: Path, case: str) -> None:
 
 
 def test_two_ranks_lps(tmp_path: Path) -> None:
+    """The default selection's MPI smoke test (the others are marked ``mpi``): a small
+    LPS run with damage on two ranks gives the serial run's fields bit for bit."""
     deck = tmp_path / "lps.yaml"
     deck.write_text(LPS_DECK)
     assert _run(str(deck), "--out", str(tmp_path / "s")).returncode == 0
@@ -125,6 +131,7 @@ def test_two_ranks_lps(tmp_path: Path) -> None:
     assert json.loads((tmp_path / "m" / "summary.json").read_text())["results"]["bonds_broken"] > 0
 
 
+@pytest.mark.mpi
 def test_a_killed_rank_resumes_to_the_same_result(tmp_path: Path) -> None:
     deck = [a if a != "solver.steps=500" else "solver.steps=300" for a in ROCK]
     whole = _run(*deck, "--out", str(tmp_path / "whole"), ranks=2)
@@ -145,6 +152,7 @@ def test_a_killed_rank_resumes_to_the_same_result(tmp_path: Path) -> None:
         np.testing.assert_array_equal(b[k], a[k], err_msg=k)
 
 
+@pytest.mark.mpi
 def test_static_solver_is_refused_with_its_key(tmp_path: Path) -> None:
     yaml = EXAMPLES / "micropolar" / "cantilever.yaml"  # solver.type: static
     got = _run(str(yaml), "--out", str(tmp_path / "x"), ranks=2)
@@ -153,6 +161,7 @@ def test_static_solver_is_refused_with_its_key(tmp_path: Path) -> None:
     assert got.stderr.count("solver.type") == 1  # rank 0 speaks once
 
 
+@pytest.mark.mpi
 def test_two_ranks_adr_agree_to_the_tolerance(tmp_path: Path) -> None:
     """Dynamic relaxation sums its norms over ranks in another order than one process:
     the iterations may differ, the equilibrium agrees to the residual tolerance."""

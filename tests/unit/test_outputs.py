@@ -177,6 +177,7 @@ def test_three_d_damage_figure_shows_slices(tmp_path) -> None:
     assert mx.sum() == 5 * 4 and np.allclose(x[mx, 0], 0.0025)  # the nearest layer
 
 
+@pytest.mark.long
 def test_stress_strain_from_first_contact_removes_the_travel_before_contact(tmp_path) -> None:
     gap, v = 2e-4, 2.0
     d = {

@@ -15,6 +15,9 @@ from peridynamics.bodies.shapes import Box
 from peridynamics.build.errors import SetupError
 from peridynamics.kernels.reference_rigid_contact import rigid_shape_force_reference
 
+# the long tier (CI: pytest -m long): rigid-body runs (their kernels compile for a minute cold)
+pytestmark = pytest.mark.long
+
 G = 9.81
 
 SLIDE = {
@@ -51,6 +54,7 @@ def _run(deck: dict, steps: int | None = None):
     return sim, s, out
 
 
+@pytest.mark.long
 def test_block_sliding_on_a_rigid_plane_decelerates_at_mu_k_g():
     sim, s, snaps = _run(SLIDE)
     rho_v = sim.model.density * sim.cloud.volume

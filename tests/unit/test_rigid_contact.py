@@ -20,6 +20,9 @@ from peridynamics.bodies.rigid_contact_forces import (
 from peridynamics.bodies.shapes import Box, Cylinder, Plane, Shape, Sphere
 from peridynamics.kernels import reference_rigid_contact as ref
 
+# the long tier (CI: pytest -m long): the rigid-contact kernels compile for a minute cold
+pytestmark = pytest.mark.long
+
 CS = 1e12  # N/m^6
 RC = 0.05  # m
 

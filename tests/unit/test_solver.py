@@ -8,7 +8,7 @@ import re
 import numpy as np
 import pytest
 
-from peridynamics import BondBasedMaterial, ExplicitSolver, Evaluator, State, build_bonds
+from peridynamics import BondBasedMaterial, Evaluator, ExplicitSolver, State, build_bonds
 from peridynamics.geometry import bar, rectangle
 from peridynamics.solvers import SimulationUnstable, UnstableTimeStep
 

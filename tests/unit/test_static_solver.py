@@ -15,10 +15,8 @@ from __future__ import annotations
 
 import copy
 import json
-from collections.abc import Iterator
 from typing import Any
 
-import numba
 import numpy as np
 import pytest
 
@@ -42,13 +40,8 @@ E_STEEL, NU, RHO_STEEL = 200e9, 0.2, 7850.0
 E_AL, RHO_AL = 70e9, 2700.0
 
 
-@pytest.fixture(autouse=True)
-def _one_thread() -> Iterator[None]:
-    """Small problems: one Numba thread (the results do not depend on the count)."""
-    before = numba.get_num_threads()
-    numba.set_num_threads(1)
-    yield
-    numba.set_num_threads(before)
+# small problems: one Numba thread is faster than several (results do not depend on it)
+pytestmark = pytest.mark.usefixtures("serial_numba")
 
 
 def _run(solver: StaticSolver, limit: int = 10_000) -> tuple[Any, list]:
@@ -320,6 +313,7 @@ def dcb_c() -> Trace:
     return Trace(load_steps=4, breaking="C", reuse_factorization=True)
 
 
+@pytest.mark.long
 def test_dcb_breaks_a_few_dozen_pairs_and_ends(dcb_c: Trace) -> None:
     t = dcb_c
     assert t.summary["converged"] is True, t.summary["message"]
@@ -330,6 +324,7 @@ def test_dcb_breaks_a_few_dozen_pairs_and_ends(dcb_c: Trace) -> None:
     assert sum(st["result"].broken for st in t.steps) == t.state.bonds_broken
 
 
+@pytest.mark.long
 def test_dcb_reuse_of_the_factorization_changes_nothing_but_the_cost(dcb_c: Trace) -> None:
     fresh = Trace(load_steps=4, breaking="C", reuse_factorization=False)
     assert np.array_equal(fresh.state.intact, dcb_c.state.intact)
@@ -362,6 +357,7 @@ def _check_scheme(t: Trace, per_event: int | None) -> None:
                 assert min(r[k] for k in broken) >= max(r[k] for k in left)
 
 
+@pytest.mark.long
 def test_dcb_schemes_a_b_c(dcb_c: Trace) -> None:
     _check_scheme(dcb_c, 4)
     b = Trace(load_steps=4, breaking="B")
@@ -383,6 +379,7 @@ def test_dcb_schemes_a_b_c(dcb_c: Trace) -> None:
         assert np.array_equal(t.state.intact, t.state.intact[rev])
 
 
+@pytest.mark.long
 def test_dcb_no_violation_is_left_behind(dcb_c: Trace) -> None:
     steps = dcb_c.steps
     for k, st in enumerate(steps):
@@ -398,6 +395,7 @@ def test_dcb_no_violation_is_left_behind(dcb_c: Trace) -> None:
     assert steps[-1]["max_ratio_after"] < 1.0
 
 
+@pytest.mark.long
 def test_dcb_event_driven_load_hits_the_first_event(dcb_c: Trace) -> None:
     steps = dcb_c.steps
     first = next(k for k, st in enumerate(steps) if st["pending"])
@@ -414,6 +412,7 @@ def test_dcb_event_driven_load_hits_the_first_event(dcb_c: Trace) -> None:
     )
 
 
+@pytest.mark.long
 def test_dcb_both_directions_of_a_broken_pair_break(dcb_c: Trace) -> None:
     intact = dcb_c.state.intact
     rev = dcb_c.model.bonds.reverse_index()
@@ -509,6 +508,7 @@ def _paths(exc: DeckError) -> list[str]:
     return [path for path, _ in exc.errors]
 
 
+@pytest.mark.long
 def test_micropolar_static_deck_runs(tmp_path) -> None:
     sim = Simulation.from_deck(parse_deck(copy.deepcopy(DECK)))
     assert isinstance(sim.solver, StaticSolver)

@@ -104,6 +104,7 @@ def test_rerun_skips_done_cases(grid_run: tuple[Path, Path], capsys: pytest.Capt
     assert all(float(r["wall_s"]) > 0 and r["n_points"] for r in rows)
 
 
+@pytest.mark.long
 def test_failed_cases_are_recorded_and_jobs_1_matches_jobs_2(
     grid_run: tuple[Path, Path], tmp_path: Path, capsys: pytest.CaptureFixture
 ) -> None:
@@ -128,6 +129,7 @@ def test_failed_cases_are_recorded_and_jobs_1_matches_jobs_2(
     assert any("time_step" in line for line in failed["stderr_tail"])
 
 
+@pytest.mark.long
 def test_interrupted_case_resumes_from_checkpoint(
     grid_run: tuple[Path, Path], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -195,6 +197,7 @@ def test_values_names_and_assignment() -> None:
     assert flat == {"a": 1, "b.c": 2.5, "e": None, "f": 1}
 
 
+@pytest.mark.mpi
 @pytest.mark.skipif(mpiexec()[0] is None, reason=mpiexec()[1])
 def test_mpi_spreads_cases_over_ranks(grid_run: tuple[Path, Path], tmp_path: Path) -> None:
     deck, grid = grid_run

@@ -126,6 +126,7 @@ def _free_vibration(viscosity, steps=400, integrator="velocity_verlet"):
     return np.array(energies), np.array(states), solver
 
 
+@pytest.mark.long
 def test_viscosity_never_adds_energy_and_zero_coefficients_are_plain_pd_bitwise() -> None:
     e_plain, u_plain, _ = _free_vibration(None)
     e_zero, u_zero, _ = _free_vibration(BondViscosity(0.0, 0.0))

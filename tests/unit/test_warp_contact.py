@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 pytest.importorskip("warp", reason="warp-lang not installed (pip install '.[gpu]')")
+pytestmark = pytest.mark.gpu  # the Warp tier (pytest -m gpu); the smoke test: test_warp_kernels.py
 
 from peridynamics import BondBasedMaterial, Evaluator, PointCloud, build_bonds  # noqa: E402
 from peridynamics.backends.warp_device import DeviceModel, DeviceState  # noqa: E402

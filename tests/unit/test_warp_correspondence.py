@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 pytest.importorskip("warp", reason="warp-lang not installed (pip install '.[gpu]')")
+pytestmark = pytest.mark.gpu  # the Warp tier (pytest -m gpu); the smoke test: test_warp_kernels.py
 
 from peridynamics.backends.warp_correspondence import (  # noqa: E402
     DeviceCorrespondence,

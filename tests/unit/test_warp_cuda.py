@@ -18,6 +18,7 @@ from peridynamics.deck import load_deck
 from tests.helpers import EXAMPLES
 
 wp = pytest.importorskip("warp", reason="warp-lang not installed (pip install '.[gpu]')")
+pytestmark = pytest.mark.gpu  # the Warp tier (pytest -m gpu); the smoke test: test_warp_kernels.py
 
 MODULES = [
     "_warp_dsl", "_warp_step_dsl", "_warp_damage_dsl", "_warp_lps_dsl",

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 wp = pytest.importorskip("warp", reason="warp-lang not installed (pip install '.[gpu]')")
+pytestmark = pytest.mark.gpu  # the Warp tier (pytest -m gpu); the smoke test: test_warp_kernels.py
 
 from peridynamics import BondBasedMaterial, Evaluator, build_bonds  # noqa: E402
 from peridynamics.backends._warp_dsl import _pmb_force_break  # noqa: E402

@@ -18,7 +18,9 @@ pytestmark = pytest.mark.skipif(
 )
 
 
-@pytest.mark.parametrize("dim", [2, 3])
+# the 2-D case is the default selection's Warp smoke test; the 3-D case and every other
+# Warp test are in the gpu tier (pytest -m gpu, run by .ci/run)
+@pytest.mark.parametrize("dim", [2, pytest.param(3, marks=pytest.mark.gpu)])
 def test_force_break_and_damage_match_numba(dim: int) -> None:
     if dim == 2:
         c = rectangle((0.02, 0.01), 5e-4, thickness=1e-3, plane="stress")

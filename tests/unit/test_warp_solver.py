@@ -19,6 +19,7 @@ from peridynamics.solvers import SimulationUnstable
 from tests.helpers import EXAMPLES
 
 wp = pytest.importorskip("warp", reason="warp-lang not installed (pip install '.[gpu]')")
+pytestmark = pytest.mark.gpu  # the Warp tier (pytest -m gpu); the smoke test: test_warp_kernels.py
 
 WARP = ["solver.backend=warp", "solver.device=cpu"]
 BRANCHING = [

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 wp = pytest.importorskip("warp", reason="warp-lang not installed (pip install '.[gpu]')")
+pytestmark = pytest.mark.gpu  # the Warp tier (pytest -m gpu); the smoke test: test_warp_kernels.py
 
 from peridynamics.backends import _warp_step_dsl as k  # noqa: E402
 

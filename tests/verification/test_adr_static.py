@@ -12,10 +12,9 @@ linear solve K(0) u = V b alone differs from it by the geometric nonlinearity (r
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from typing import Any
 
-import numba
 import numpy as np
 import pytest
 import scipy.sparse as sp
@@ -34,14 +33,8 @@ E, RHO, DX = 70e9, 2700.0, 1e-3
 NX, NY = 20, 10
 
 
-@pytest.fixture(autouse=True)
-def _one_thread() -> Iterator[None]:
-    """Small problems: one Numba thread is faster than several on a busy machine (the
-    iteration counts and results do not depend on the thread count)."""
-    before = numba.get_num_threads()
-    numba.set_num_threads(1)
-    yield
-    numba.set_num_threads(before)
+# small problems: one Numba thread is faster than several (results do not depend on it)
+pytestmark = pytest.mark.usefixtures("serial_numba")
 
 
 def _plate(
@@ -193,6 +186,7 @@ def _notched_plate(s0: float) -> tuple[Evaluator, list[Kinematic], NDArray[np.in
     return model, bc, right
 
 
+@pytest.mark.long
 def test_load_stepped_notched_plate_rises_then_drops() -> None:
     """Load-displacement curve with damage committed per load step (20 steps).
 

@@ -90,6 +90,7 @@ def test_default_plane_strain_plate_has_nominal_e_and_nu(tmp_path) -> None:
     assert nu == pytest.approx(0.25, rel=0.02)
 
 
+@pytest.mark.long
 def test_default_box_has_nominal_e_and_lattice_nu(tmp_path) -> None:
     e_ratio, nu = _measure(tmp_path, _deck(3, n=(40, 14, 14)), margin=1.0)
     assert e_ratio == pytest.approx(1.0, abs=0.02)

@@ -68,6 +68,7 @@ def test_fdm_refuses_non_uniform_or_higher_dimensional_grids() -> None:
 
 
 @pytest.mark.parametrize("first_kind", ["fdm", "pd1"])
+@pytest.mark.long
 def test_hybrid_switches_at_the_stretch_and_transfers_exactly(first_kind: str) -> None:
     cloud, mat, load = _pulse_bar(peak=25e6)
     s0 = 9.5e-4

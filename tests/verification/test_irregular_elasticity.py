@@ -202,6 +202,7 @@ def test_mesh_centroid_plate_gives_e_and_nu(tmp_path) -> None:
 
 
 # -- 3-D box -----------------------------------------------------------------------------
+@pytest.mark.long
 def test_jittered_box_pmb_gives_e() -> None:
     """A small box (24 x 10 x 10 dx): E to 2 %; nu needs a larger box (next test)."""
     size = (0.024, 0.01, 0.01)

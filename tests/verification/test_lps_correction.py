@@ -23,7 +23,6 @@ The numbers measured are listed in docs/theory_lps.md.
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 import pytest
 import scipy.sparse as sp
@@ -47,15 +46,6 @@ E = 2.0e9
 RHO = 1200.0
 DELTA = 3.015 * DX  # the deck default horizon_factor
 SIGMA = 1.0e2
-
-
-@pytest.fixture
-def serial_numba():
-    """One Numba thread: small clouds, many kernel calls (finite differences)."""
-    before = numba.get_num_threads()
-    numba.set_num_threads(1)
-    yield
-    numba.set_num_threads(before)
 
 
 @pytest.fixture(scope="module")

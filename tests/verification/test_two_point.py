@@ -17,7 +17,7 @@ import math
 import numpy as np
 import pytest
 
-from peridynamics import BondBasedMaterial, ExplicitSolver, Evaluator, PointCloud, build_bonds
+from peridynamics import BondBasedMaterial, Evaluator, ExplicitSolver, PointCloud, build_bonds
 from peridynamics.loading import InitialVelocity
 
 E, RHO = 70e9, 2700.0

@@ -7,10 +7,11 @@ import math
 import numpy as np
 import pytest
 
-from peridynamics import BondBasedMaterial, ExplicitSolver, Evaluator, build_bonds
+from peridynamics import BondBasedMaterial, Evaluator, ExplicitSolver, build_bonds
 from peridynamics.geometry import bar, rectangle
 
 
+@pytest.mark.long
 def test_long_wave_speed_in_a_bar():
     """A Gaussian displacement of width 20 horizons splits into two pulses travelling at
     +-sqrt(E / rho). With delta = 3 dx and the truncated rule the long-wave modulus is
