@@ -1,6 +1,6 @@
 """The point strain-energy density W_i (J/m^3) on the Warp device.
 
-:meth:`peridynamics.evaluation.evaluator.Evaluator.state_energies` sums ``W_i V_i`` on the host,
+:meth:`peridynamics.evaluation.measures.Measures.state_energies` sums ``W_i V_i`` on the host,
 which on
 the Warp backend needs ``u`` and the bond flags copied back and a host pass over every
 bond. :class:`DeviceEnergy` computes W_i on the device with the host's arithmetic

@@ -252,7 +252,8 @@ class WarpExplicitSolver(ExplicitSolver):
 
     def point_damage(self, s: State) -> NDArray[np.float64] | None:
         """Local damage (n,) reduced on the device (the bond flags stay there), the
-        bits of :meth:`Evaluator.point_damage`; None before :meth:`init`."""
+        bits of :meth:`~peridynamics.evaluation.measures.Measures.point_damage`; None
+        before :meth:`init`."""
         ds, dm = self.ds, self.dm
         if ds is None:
             return None
@@ -269,7 +270,8 @@ class WarpExplicitSolver(ExplicitSolver):
     def state_energies(self, s: State) -> tuple[float, float] | None:
         """(kinetic, strain) energy (J) with the strain energy density reduced on the
         device (n floats back, not u and the bond flags); the sums are the host's
-        (:meth:`Evaluator.state_energies`). None when the family has no device energy."""
+        (:meth:`~peridynamics.evaluation.measures.Measures.state_energies`). None when the
+        family has no device energy."""
         ds = self.ds
         if ds is None or self._energy is None:
             return None

@@ -115,7 +115,7 @@ def _surface(spec: Any, ibc: int, nodes: NDArray[np.intp], cloud: PointCloud) ->
     )
 
 
-#: boundary condition ``type`` -> builder (see :data:`Condition`)
+#: boundary condition ``type`` -> builder (a ``Condition``)
 CONDITIONS: dict[str, Condition] = {
     "displacement": _prescribed,
     "velocity": _prescribed,
