@@ -50,8 +50,9 @@ DEFAULT_LAYERS: list[list[str]] = [
 LAYER_NAMES = {
     "cli": "command line",
     "app": "application",
-    "build": "build",
-    "analysis": "analysis, outputs",
+    "build": "build (deck to objects)",
+    "io": "outputs",
+    "analysis": "analysis",
     "backends": "backends, MPI",
     "solvers": "solvers",
     "evaluation": "evaluation",
