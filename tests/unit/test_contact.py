@@ -14,6 +14,9 @@ from peridynamics.contact import ShortRangeContact
 from peridynamics.geometry import bar, box, rectangle
 from peridynamics.kernels.contact import contact_energy_reference, contact_force_reference
 
+# the long tier (CI: pytest -m long): the contact kernels compile for half a minute cold
+pytestmark = pytest.mark.long
+
 DX = 1e-3
 CS = 1e20  # N/m^6
 
