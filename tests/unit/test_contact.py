@@ -18,6 +18,9 @@ from peridynamics.kernels.short_range_contact import (
     contact_force_reference,
 )
 
+# the long tier (CI: pytest -m long): the contact kernels compile for half a minute cold
+pytestmark = pytest.mark.long
+
 DX = 1e-3
 CS = 1e20  # N/m^6
 

@@ -17,6 +17,9 @@ from peridynamics.kernels import short_range_contact as kernels
 from peridynamics.kernels.short_range_contact import contact_force_reference
 from peridynamics.kernels.short_range_friction import contact_friction_reference
 
+# the long tier (CI: pytest -m long): the friction kernels compile for long cold
+pytestmark = pytest.mark.long
+
 DX = 1e-3
 CS = 1e20  # N/m^6
 MU_S, MU_K = 0.5, 0.3

@@ -14,6 +14,9 @@ from peridynamics.geometry import rectangle
 from peridynamics.kernels import reference
 from peridynamics.kernels.sed import sed_stiffness, sed_update
 
+# the long tier (CI: pytest -m long): the SED-softening kernels compile for long cold
+pytestmark = pytest.mark.long
+
 E = 4.71e9
 
 
