@@ -219,9 +219,7 @@ def test_moment_correction_gives_every_interior_point_the_continuum_energy(dim: 
     raw = mat.bond_stiffness(cloud, bonds, corrected=False)
     w_inf = mat.uniaxial_energy_density(1e-6, dim, bonds.horizon, cloud.cross_section,
                                         cloud.plane)  # fmt: skip
-    g = moment_correction_factors(
-        cloud.x, bonds, raw, w_inf, 1e-6, calibrate=calibrate_influence
-    )
+    g = moment_correction_factors(cloud.x, bonds, raw, w_inf, 1e-6, calibrate=calibrate_influence)
     np.testing.assert_allclose(g, g[bonds.reverse_index()], rtol=1e-14)  # pair forces
     assert g.min() > 0
     model = Evaluator(cloud, bonds.with_correction(g), mat)

@@ -189,5 +189,7 @@ def test_supports_names_the_deck_key() -> None:
     model.force_model.set_precision("float32")
     why = supports(model)
     assert why is not None and why.startswith("solver.precision")
-    plain = Evaluator(_cloud(2, 1e-3), build_bonds(_cloud(2, 1e-3), 3e-3), BondBasedMaterial(E, RHO))
+    plain = Evaluator(
+        _cloud(2, 1e-3), build_bonds(_cloud(2, 1e-3), 3e-3), BondBasedMaterial(E, RHO)
+    )
     assert supports(plain) is None

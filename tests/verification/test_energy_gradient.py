@@ -46,5 +46,3 @@ def test_internal_forces_sum_to_zero_and_have_no_torque():
     y = cloud.x + u
     torque = np.sum(y[:, 0] * vf[:, 1] - y[:, 1] * vf[:, 0])
     assert abs(torque) < 1e-12 * scale * np.abs(y).max()
-
-

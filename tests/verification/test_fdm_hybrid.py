@@ -72,7 +72,9 @@ def test_fdm_refuses_non_uniform_or_higher_dimensional_grids() -> None:
 def test_hybrid_switches_at_the_stretch_and_transfers_exactly(first_kind: str) -> None:
     cloud, mat, load = _pulse_bar(peak=25e6)
     s0 = 9.5e-4
-    second = Evaluator(cloud, build_bonds(cloud, 3 * DX, "truncated"), mat, CriticalStretch(s0), [load])
+    second = Evaluator(
+        cloud, build_bonds(cloud, 3 * DX, "truncated"), mat, CriticalStretch(s0), [load]
+    )
     first = (
         FDMModel1D(cloud, mat, [load])
         if first_kind == "fdm"
