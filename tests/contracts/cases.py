@@ -330,7 +330,7 @@ def twin_correspondence(model: Any, st: State) -> Pairs:
     b, d = model.bonds, model.dim
     args = (model.bond_xi, st.u, b.offsets, b.bond_j, model.weight, st.intact)
     _, fgrad, _, _, active = reference_correspondence.prepass(
-        *args, model.det_reference, DEGENERATE_RATIO, model.mode, model._stab_base
+        *args, model.det_reference, DEGENERATE_RATIO, model.mode, model.stab_base
     )
     f_ref = reference_correspondence.force(
         *args, st["force_tensor"].reshape(-1, d, d), fgrad, st["stabilization"], model.mode

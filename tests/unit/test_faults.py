@@ -64,7 +64,18 @@ def _sigint_at(sim: Simulation, step: int) -> None:
 
 
 # ------------------------------------------------------------------ 7. Ctrl-C
-def test_ctrl_c_stops_after_the_step_and_resumes_bitwise(tmp_path, capsys) -> None:
+@pytest.fixture
+def python_sigint_handler():
+    """Python's own SIGINT handler for the test: a shell that starts pytest in the
+    background leaves SIGINT ignored, which the run loop would (rightly) restore."""
+    saved = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, saved)
+
+
+def test_ctrl_c_stops_after_the_step_and_resumes_bitwise(
+    tmp_path, capsys, python_sigint_handler
+) -> None:
     deck = load_deck(BAR, QUICK_BAR)
     ref, cut = tmp_path / "ref", tmp_path / "cut"
     Simulation.from_deck(deck).run(ref, quiet=True)

@@ -88,7 +88,7 @@ def _twin_force(m: Evaluator, u: np.ndarray, intact: np.ndarray) -> tuple[np.nda
     b = fm.bonds
     kinv, fgrad, sigma_s, omega0, active = ref.prepass(
         fm.bond_xi, u, b.offsets, b.bond_j, fm.weight, intact, fm.det_reference,
-        DEGENERATE_RATIO, fm.mode, fm._stab_base,
+        DEGENERATE_RATIO, fm.mode, fm.stab_base,
     )  # fmt: skip
     piola = fm.law.first_piola(fgrad) * active[:, None, None]
     amat = np.einsum("nab,nbc->nac", piola - sigma_s, kinv)
@@ -202,7 +202,7 @@ def _criteria_only(m: Evaluator, u: np.ndarray, before: np.ndarray) -> np.ndarra
     y = b.bond_xi + u[b.bond_j] - u[b.bond_i]
     stretch = np.linalg.norm(y, axis=1) / b.bond_length - 1.0
     thr = 0.5 * (law.point_s0[b.bond_i] + law.point_s0[b.bond_j])
-    stress = (mean >= law.tensile_strength) & ~law._protected
+    stress = (mean >= law.tensile_strength) & ~law.protected
     return before.astype(bool) & ((stretch >= thr) | stress)
 
 

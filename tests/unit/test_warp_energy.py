@@ -221,7 +221,7 @@ def _corr_twin(model: Evaluator, u: np.ndarray, intact: np.ndarray) -> np.ndarra
     b = fm.bonds
     _, fgrad, _, omega0, active = ref_corr.prepass(
         fm.bond_xi, u, b.offsets, b.bond_j, fm.weight, intact, fm.det_reference,
-        DEGENERATE_RATIO, fm.mode, fm._stab_base,
+        DEGENERATE_RATIO, fm.mode, fm.stab_base,
     )  # fmt: skip
     if fm.mode == 2:
         stab = active * 0.5 * fm.micromodulus

@@ -161,7 +161,7 @@ class RunLoop:
         if self.session is not None:
             from peridynamics.parallel.session import GlobalModel
 
-            obs_model = GlobalModel(self.session, self._global_bonds())
+            obs_model = GlobalModel(self.session, self.global_bonds())
         run = run_options(self.deck)
         ctx = RunContext(run, obs_model, self.solver, out, records, self.fingerprint())
         ctx.session = self.session
@@ -176,7 +176,7 @@ class RunLoop:
         return observers
 
     # -- the decomposed run's collective steps (no-ops or plain calls when serial) -------
-    def _global_bonds(self) -> int:
+    def global_bonds(self) -> int:
         """Directed bonds of the whole body (owned families of every rank)."""
         return int(self.session.comm.sum(float(self.model.owned_bonds)))
 

@@ -134,7 +134,7 @@ class DeviceEnergy:
             self.length = dm.upload("bond_length", np.asarray(fm.length, dtype=f64))
             self.weight = dm.upload("corr_weight", np.asarray(fm.weight, dtype=f64))
             self.det_reference = dm.upload("corr_det_reference", np.asarray(fm.det_reference, f64))
-            self.stab_base = dm.upload("corr_stab_base", np.asarray(fm._stab_base[:n], f64))
+            self.stab_base = dm.upload("corr_stab_base", np.asarray(fm.stab_base[:n], f64))
             # work arrays of the pre-pass (the State's fields are left alone)
             self.fgrad = dm.zeros((n, d * d), w.float64)
             self.amat = dm.zeros((n, d * d), w.float64)

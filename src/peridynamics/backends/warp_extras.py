@@ -67,17 +67,17 @@ class DeviceViscosity:
     Parameters
     ----------
     model : Evaluator
-        With viscosity (``model._viscous`` = (lin, quad)); bond weights
+        With viscosity (``model.viscous_coefficients`` = (lin, quad)); bond weights
         ``model.bonds.bond_volume`` and ``model.inv_length`` are uploaded once.
     dm : DeviceModel
     """
 
     def __init__(self, model: Any, dm: DeviceModel) -> None:
-        if model._viscous is None:
+        if model.viscous_coefficients is None:
             raise ValueError("DeviceViscosity: the model has no viscosity")
         self.dm = dm
-        self.lin = float(model._viscous[0])
-        self.quad = float(model._viscous[1])
+        self.lin = float(model.viscous_coefficients[0])
+        self.quad = float(model.viscous_coefficients[1])
         b = model.bonds
         self.weight = dm.upload("bond_volume", np.asarray(b.bond_volume, dtype=np.float64))
         self.inv_length = dm.upload("inv_length", np.asarray(model.inv_length, dtype=np.float64))
@@ -113,7 +113,7 @@ class DeviceSED:
     """
 
     def __init__(self, model: Any, dm: DeviceModel) -> None:
-        sed = model._sed
+        sed = model.sed_stiffness
         if sed is None:
             raise ValueError("DeviceSED: the model has no damage.sed_softening")
         why = supports(model)
@@ -182,7 +182,7 @@ class DeviceSED:
     def to_host(self, model: Any) -> None:
         """Copy the device stiffness, factors and energies into the host force model and
         its ``SoftenedStiffness`` (for host-side diagnostics: stress maps, sections)."""
-        sed = model._sed
+        sed = model.sed_stiffness
         model.force_model.stiffness[...] = self.stiffness.numpy()
         sed.factor[...] = self.factor.numpy()
         sed.energy[...] = self.energy.numpy()

@@ -37,7 +37,7 @@ class DevicePMB:
         self.s0 = dm.upload("point_s0", s0)
         self.never = dm.upload("never", np.full(dm.n, np.inf))
         self.sed: Any = None
-        if model._sed is not None:
+        if model.sed_stiffness is not None:
             from peridynamics.backends.warp_extras import DeviceSED
 
             self.sed = DeviceSED(model, dm)
@@ -128,7 +128,7 @@ def unsupported(model: Any, integrator: str = "velocity_verlet") -> tuple[str, s
                 f"the {model.damage_law.name!r} law with PMB is not on the Warp backend "
                 "(critical stretch is)",
             )
-        if model._sed is not None:
+        if model.sed_stiffness is not None:
             from peridynamics.backends import warp_extras
 
             why = warp_extras.supports(model)
@@ -158,7 +158,7 @@ def unsupported(model: Any, integrator: str = "velocity_verlet") -> tuple[str, s
         why = warp_short_range_contact.supports(model)
         if why:
             return "contact", why
-    if model._viscous is not None:
+    if model.viscous_coefficients is not None:
         from peridynamics.backends import warp_extras
 
         why = warp_extras.supports(model)
@@ -196,7 +196,7 @@ def device_terms(model: Any, dm: DeviceModel) -> tuple[Any, list[Any]]:
         extras.append(DeviceContact(model, dm))
     if model.damping > 0:
         extras.append(DeviceDamping(model, dm))
-    if model._viscous is not None:
+    if model.viscous_coefficients is not None:
         from peridynamics.backends.warp_extras import DeviceViscosity
 
         extras.append(DeviceViscosity(model, dm))

@@ -114,7 +114,7 @@ class WarpExplicitSolver(ExplicitSolver):
     def _attach(self, s: State) -> None:
         host = dict(s.fields)
         self.ds = DeviceState(self.dm, s)
-        sed = self.model._sed
+        sed = self.model.sed_stiffness
         on_read = None if sed is None else (lambda: sed.restore(s))
         s.fields = MirrorFields(host, self.ds, on_read)
         self.family.attach(self.ds)
@@ -134,7 +134,7 @@ class WarpExplicitSolver(ExplicitSolver):
             out["device_to_host_bytes"] = int(fields.copied_bytes)
         return out
 
-    def _warm_up(self, d: int) -> None:
+    def warm_up(self, d: int) -> None:
         """Nothing to compile on the host for the stepping (Warp compiles on first
         launch, or loads its kernel cache)."""
 

@@ -68,51 +68,43 @@ def build_material(m: Any) -> Any:
         raise SetupError("material", str(exc)) from None
 
 
-def build_damage(dmg: dk.Damage, m: Any, material: Any, cloud: PointCloud, bonds: Bonds) -> Any:
-    """The damage object given to :class:`Evaluator` for the deck's ``damage`` section.
+#: a damage builder: (damage section, material spec, material, cloud, bonds, no-fail
+#: points or None) -> the damage object the evaluator binds
+DamageBuilder = Callable[[dk.Damage, Any, Any, PointCloud, Bonds, Any], Any]
 
-    Parameters
-    ----------
-    dmg : Damage
-        The validated ``damage`` section.
-    m : material spec of the deck (selects the correspondence failure law).
-    material : the material object built from ``m`` (calibrates s0 from G0).
-    cloud : PointCloud
-        Points of the body (node sets of ``no_fail``, dimension, cross-section).
-    bonds : Bonds
-        Its bonds (the horizon).
 
-    Returns
-    -------
-    ``NO_DAMAGE``, :class:`CriticalStretch`, ``CorrespondenceFailure`` or
-    :class:`~peridynamics.damage.bond_softening.SofteningBonds`. Raises SetupError when
-    a softening law has no tail at this horizon.
-    """
-    if dmg.model == "none":
-        return NO_DAMAGE
-    no_fail = (
-        np.unique(np.concatenate([cloud.node_set(n) for n in dmg.no_fail])) if dmg.no_fail else None
+def _softening_bonds(
+    dmg: dk.Damage, m: Any, material: Any, cloud: PointCloud, bonds: Bonds, no_fail: Any
+) -> Any:
+    """Tension-softening bonds (``damage.bond_law`` bilinear / trilinear; validated: f_t
+    and G0 given); SetupError when the envelope has no tail at this horizon."""
+    from peridynamics.damage.bond_softening import SofteningBonds
+    from peridynamics.families.pmb_softening.envelope import softening_envelope
+
+    assert dmg.tensile_strength is not None and dmg.fracture_energy is not None
+    knee = dmg.trilinear_knee
+    soft = SofteningBonds(
+        dmg.bond_law,
+        dmg.tensile_strength,
+        dmg.fracture_energy,
+        None if knee is None else (float(knee[0]), float(knee[1])),
+        no_fail,
     )
-    if dmg.bond_law != "brittle":  # tension softening (validated: f_t and G0 given)
-        from peridynamics.damage.bond_softening import SofteningBonds
-        from peridynamics.families.pmb_softening.envelope import softening_envelope
-
-        assert dmg.tensile_strength is not None and dmg.fracture_energy is not None
-        knee = dmg.trilinear_knee
-        soft = SofteningBonds(
-            dmg.bond_law,
-            dmg.tensile_strength,
-            dmg.fracture_energy,
-            None if knee is None else (float(knee[0]), float(knee[1])),
-            no_fail,
+    try:  # the envelope needs s_c > s0 at this horizon: say so before the run
+        softening_envelope(
+            soft, material, cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
         )
-        try:  # the envelope needs s_c > s0 at this horizon: say so before the run
-            softening_envelope(
-                soft, material, cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
-            )
-        except ValueError as exc:
-            raise SetupError("damage.tensile_strength", str(exc)) from None
-        return soft
+    except ValueError as exc:
+        raise SetupError("damage.tensile_strength", str(exc)) from None
+    return soft
+
+
+def _critical_stretch(
+    dmg: dk.Damage, m: Any, material: Any, cloud: PointCloud, bonds: Bonds, no_fail: Any
+) -> Any:
+    """Critical stretch (given, or from G0), with its Weibull field; for a correspondence
+    material wrapped in the maximum-principal-stress criterion (``principal_stress``
+    alone: an infinite s0)."""
     s0 = dmg.critical_stretch
     if dmg.model == "principal_stress":
         s0 = math.inf
@@ -130,6 +122,46 @@ def build_damage(dmg: dk.Damage, m: Any, material: Any, cloud: PointCloud, bonds
         f_t = dmg.tensile_strength
         damage = CorrespondenceFailure(damage, math.inf if f_t is None else f_t)
     return damage
+
+
+#: the registry of damage laws: ``damage.model`` (or, when it is not ``brittle``,
+#: ``damage.bond_law``) -> builder; ``none`` never builds a law
+DAMAGE_LAWS: dict[str, DamageBuilder] = {
+    "critical_stretch": _critical_stretch,
+    "principal_stress": _critical_stretch,
+    "bilinear": _softening_bonds,
+    "trilinear": _softening_bonds,
+}
+
+
+def build_damage(dmg: dk.Damage, m: Any, material: Any, cloud: PointCloud, bonds: Bonds) -> Any:
+    """The damage object given to :class:`Evaluator` for the deck's ``damage`` section.
+
+    Parameters
+    ----------
+    dmg : Damage
+        The validated ``damage`` section.
+    m : material spec of the deck (selects the correspondence failure law).
+    material : the material object built from ``m`` (calibrates s0 from G0).
+    cloud : PointCloud
+        Points of the body (node sets of ``no_fail``, dimension, cross-section).
+    bonds : Bonds
+        Its bonds (the horizon).
+
+    Returns
+    -------
+    ``NO_DAMAGE``, :class:`CriticalStretch`, ``CorrespondenceFailure`` or
+    :class:`~peridynamics.damage.bond_softening.SofteningBonds` (from
+    :data:`DAMAGE_LAWS`). Raises SetupError when a softening law has no tail at this
+    horizon.
+    """
+    if dmg.model == "none":
+        return NO_DAMAGE
+    no_fail = (
+        np.unique(np.concatenate([cloud.node_set(n) for n in dmg.no_fail])) if dmg.no_fail else None
+    )
+    key = dmg.model if dmg.bond_law == "brittle" else dmg.bond_law
+    return DAMAGE_LAWS[key](dmg, m, material, cloud, bonds, no_fail)
 
 
 def build_model(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, body: list) -> Evaluator:

@@ -96,7 +96,7 @@ def _announce(deck: Any, sim: Any, out: Path) -> None:
     if sim.session is not None:
         where = f" on {sim.session.comm.size} MPI ranks"
         n_points = sim.session.global_cloud.n_points
-        n_bonds = sim._global_bonds()
+        n_bonds = sim.global_bonds()
     print(
         f"{deck.name}: {n_points} points, {n_bonds} bonds, {sim.solver.describe()}{where} -> {out}"
     )
@@ -182,7 +182,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         if not quiet:
             _announce(deck, sim, out)
         elif sim.session is not None:
-            sim._global_bonds()  # collective: every rank takes part
+            sim.global_bonds()  # collective: every rank takes part
         summary = sim.run(out, quiet=quiet, checkpoint_every=every, resume=bool(args.resume))
         if rank != 0:
             return EXIT_OK

@@ -12,12 +12,7 @@ from peridynamics.damage.critical_stretch import (
 from peridynamics.damage.sed import SEDSoftening
 from peridynamics.damage.weibull import WeibullField
 
-#: the registry of damage laws: ``damage.model`` -> criterion class (``none`` is the
-#: critical-stretch law with an infinite threshold, which never proposes a bond)
-DAMAGE_LAWS = {"critical_stretch": CriticalStretch, "none": CriticalStretch}
-
 __all__ = [
-    "DAMAGE_LAWS",
     "BondSofteningLaw",
     "SofteningBonds",
     "NO_DAMAGE",

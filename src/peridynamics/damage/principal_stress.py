@@ -102,7 +102,7 @@ class CorrespondenceFailureLaw(CriticalStretchLaw):
         self._bj = bonds.bond_j.astype(np.intp)
         # serial bond lists: every far point is owned (a distributed run would need the
         # ghosts' stresses and flags exchanged first)
-        self._protected = keep[self._bi] | keep[self._bj]
+        self.protected = keep[self._bi] | keep[self._bj]
         self.last_stress: NDArray[np.float64] | None = None
 
     def bind(self, force_model: Any) -> None:
@@ -131,7 +131,7 @@ class CorrespondenceFailureLaw(CriticalStretchLaw):
             s1 = fm.max_principal_stress(state.u, state.intact)
             self.last_stress = s1
             mean = 0.5 * (s1[self._bi] + s1[self._bj])
-            proposed |= intact & (mean >= self.tensile_strength) & ~self._protected
+            proposed |= intact & (mean >= self.tensile_strength) & ~self.protected
         if proposed.any():
             self._add_degenerate(state, proposed)
         self._count = int(np.count_nonzero(proposed))

@@ -27,9 +27,8 @@ if TYPE_CHECKING:
 
 class Measures:
     """Energies, damage, stresses and stable steps of a
-    :class:`~peridynamics.evaluation.evaluator.Evaluator` (a mixin: it reads the model's cloud,
-    bonds,
-    force model, communicator, densities and extras)."""
+    :class:`~peridynamics.evaluation.evaluator.Evaluator` (a mixin: it reads the model's
+    cloud, bonds, force model, communicator, densities and extras)."""
 
     cloud: PointCloud
     bonds: Bonds
@@ -39,6 +38,20 @@ class Measures:
     rigid: Any
     density: NDArray[np.float64]
     _viscous: tuple[float, float] | None
+    _sed: Any
+
+    @property
+    def viscous_coefficients(self) -> tuple[float, float] | None:
+        """The viscous bond-force coefficients (linear, quadratic) this model applies,
+        or None without ``material.viscosity`` (what another backend must reproduce)."""
+        return self._viscous
+
+    @property
+    def sed_stiffness(self) -> Any:
+        """The SED softening of the bond stiffness
+        (:class:`~peridynamics.families.pmb_sed.SoftenedStiffness`), or None without
+        ``damage.sed_softening``."""
+        return self._sed
 
     def _add_force_model_fields(self, s: State) -> None:
         raise NotImplementedError  # the model's (:mod:`peridynamics.evaluation.evaluator`)

@@ -21,19 +21,7 @@ from peridynamics.loading.time_functions import (
     TriangularPulse,
 )
 
-#: every time function by its deck name
-TIME_FUNCTIONS = {
-    "constant": Constant,
-    "ramp": Ramp,
-    "table": Table,
-    "triangular_pulse": TriangularPulse,
-    "sine_pulse": SinePulse,
-    "square_pulse": SquarePulse,
-    "blast": BlastPulse,
-}
-
 __all__ = [
-    "TIME_FUNCTIONS",
     "BlastPulse",
     "BlastRangeWarning",
     "BodyForce",

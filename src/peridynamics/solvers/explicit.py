@@ -156,14 +156,14 @@ class ExplicitSolver:
             a0 = (s.force + s.body) * self._inv_mass
             s.u_prev[:] = s.u - self.dt * s.v + 0.5 * self.dt**2 * a0
         self.last_good = s.copy()
-        self._warm_up(m.dim)
+        self.warm_up(m.dim)
         return s
 
     def resume(self, state: State) -> None:
         """Continue from a State read from a checkpoint."""
         self.model.on_restore(state)
         self.last_good = state.copy()
-        self._warm_up(self.model.dim)
+        self.warm_up(self.model.dim)
 
     def done(self, state: State) -> bool:
         """True after the run's steps (never without a run length)."""
@@ -184,7 +184,7 @@ class ExplicitSolver:
         """Time step and stable limit (s)."""
         return {"time_step_s": self.dt, "stable_time_step_s": self.stable_time_step}
 
-    def _warm_up(self, d: int) -> None:
+    def warm_up(self, d: int) -> None:
         """Compile (or load from cache) the step kernels on tiny arrays of the same types,
         so that timings of the run measure stepping, not JIT compilation."""
         u, v, f, b = (np.zeros((1, d)) for _ in range(4))

@@ -98,7 +98,7 @@ class HybridSolver:
         s.intact = self.second.model.bonds.bond_intact.copy()
         s.phase = 0
         self.second.last_good = s.copy()
-        self.second._warm_up(self.model.dim)
+        self.second.warm_up(self.model.dim)
         return s
 
     def resume(self, state: State) -> None:

@@ -122,7 +122,7 @@ class CorrespondenceForceModel(ForceModel):
         kernels.shape_determinant(
             self.bond_xi, bonds.offsets, self.weight, bonds.bond_intact, self.det_reference
         )
-        self._stab_base = np.full(cloud.n_points, 0.5 * self.micromodulus)
+        self.stab_base = np.full(cloud.n_points, 0.5 * self.micromodulus)
         self._bound: NDArray[np.float64] | None = None
         self._scratch: tuple[NDArray[np.float64], ...] | None = None
         self._rows: NDArray[np.float64] | None = None
@@ -154,7 +154,7 @@ class CorrespondenceForceModel(ForceModel):
         active = np.zeros(n_all)
         kernels.prepass(
             self.bond_xi, self.length, u, b.offsets, b.bond_j, self.weight, intact,
-            self.det_reference, DEGENERATE_RATIO, self.mode, self._stab_base, kinv, fgrad,
+            self.det_reference, DEGENERATE_RATIO, self.mode, self.stab_base, kinv, fgrad,
             sigma_s, omega0, active, self._work_rows(n_all),
         )  # fmt: skip
         stab = self._stabilization(omega0, active)
@@ -177,7 +177,7 @@ class CorrespondenceForceModel(ForceModel):
         b = self.bonds
         kernels.prepass(
             self.bond_xi, self.length, state.u, b.offsets, b.bond_j, self.weight, state.intact,
-            self.det_reference, DEGENERATE_RATIO, self.mode, self._stab_base, kinv, fgrad,
+            self.det_reference, DEGENERATE_RATIO, self.mode, self.stab_base, kinv, fgrad,
             sigma_s, omega0, active, self._work_rows(n_all),
         )  # fmt: skip
         n = len(b.offsets) - 1
@@ -205,7 +205,7 @@ class CorrespondenceForceModel(ForceModel):
         """Per-point stabilisation coefficient (0 on degenerate points), shape like
         ``active``: c/2 (LBSCMM), G C / omega_0 (Silling), 0 (none)."""
         if self.mode == kernels.MODE_LBSCMM:
-            return np.asarray(active * self._stab_base[: len(active)])
+            return np.asarray(active * self.stab_base[: len(active)])
         if self.mode == kernels.MODE_SILLING:
             c_pen = self.micromodulus / self.bonds.horizon
             return np.divide(
