@@ -81,6 +81,7 @@ def _softening_bonds(
     from peridynamics.damage.bond_softening import SofteningBonds
     from peridynamics.families.pmb_softening.envelope import softening_envelope
 
+    assert dmg.bond_law != "brittle"  # DAMAGE_LAWS routes only softening laws here
     assert dmg.tensile_strength is not None and dmg.fracture_energy is not None
     knee = dmg.trilinear_knee
     soft = SofteningBonds(

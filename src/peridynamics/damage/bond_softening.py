@@ -138,7 +138,7 @@ class BondSofteningLaw(DamageLaw):
                 "(Evaluator builds it from the family SofteningBonds.force_family)"
             )
         self.model = force_model
-        b, sf = self.bonds, force_model.point_sf
+        b, sf = self.bonds, force_model.point_sf  # type: ignore[attr-defined]
         self._active = bool(np.isfinite(sf[b.bond_i] + sf[b.bond_j]).any())
 
     @property

@@ -61,8 +61,11 @@ class CorrespondenceConstants(Protocol):
     """What the force model reads of its material
     (:class:`~peridynamics.families.correspondence.material.CorrespondenceMaterial`)."""
 
-    stabilization: str
-    stabilization_g: float
+    @property
+    def stabilization(self) -> str: ...
+
+    @property
+    def stabilization_g(self) -> float: ...
 
     def constitutive_law(self, dim: int, plane: str | None) -> Any: ...
 

@@ -76,7 +76,8 @@ class LPSConstants(Protocol):
     """What the force model reads of its material
     (:class:`~peridynamics.families.lps.material.LPSMaterial`)."""
 
-    influence: str
+    @property
+    def influence(self) -> str: ...
 
     def coefficients(self, dim: int, plane: str | None) -> Any: ...
 

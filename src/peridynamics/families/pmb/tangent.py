@@ -43,10 +43,17 @@ class BondStiffnessModel(Protocol):
     (n_bonds,); a :class:`~peridynamics.families.pmb.force.PMBForceModel` or the bonds of
     an interface between bodies."""
 
-    bonds: Any
-    cloud: Any
-    stiffness: NDArray[np.float64]
-    inv_length: NDArray[np.float64]
+    @property
+    def bonds(self) -> Any: ...
+
+    @property
+    def cloud(self) -> Any: ...
+
+    @property
+    def stiffness(self) -> NDArray[np.float64]: ...
+
+    @property
+    def inv_length(self) -> NDArray[np.float64]: ...
 
 
 def bond_jacobians(

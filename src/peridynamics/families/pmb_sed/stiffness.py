@@ -28,9 +28,14 @@ class SEDParameters(Protocol):
     """What the softening reads of its parameters
     (:class:`~peridynamics.damage.sed.SEDSoftening`)."""
 
-    levels: int
-    residual: float
-    energy: str
+    @property
+    def levels(self) -> int: ...
+
+    @property
+    def residual(self) -> float: ...
+
+    @property
+    def energy(self) -> str: ...
 
     def thresholds(
         self, youngs_modulus: float, point_s0: NDArray[np.float64]
