@@ -49,7 +49,7 @@ class Measures:
     @property
     def sed_stiffness(self) -> Any:
         """The SED softening of the bond stiffness
-        (:class:`~peridynamics.families.pmb_sed.SoftenedStiffness`), or None without
+        (:class:`~peridynamics.families.pmb_sed.stiffness.SoftenedStiffness`), or None without
         ``damage.sed_softening``."""
         return self._sed
 
