@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from peridynamics.app.run import Simulation
+from peridynamics.app.run_resume import read_resume
 from peridynamics.build.errors import SetupError
 from peridynamics.deck import load_deck, parse_deck
 from peridynamics.solvers import SimulationUnstable
@@ -204,7 +205,7 @@ def test_resume_continues_the_same(tmp_path: Path) -> None:
     ck = json.loads((tmp_path / "part" / "summary.json").read_text())
     assert ck["status"] == "completed"
     sim = Simulation.from_deck(part)
-    state, *_ = sim._read_resume(tmp_path / "part")
+    state, *_ = read_resume(sim.session, tmp_path / "part")
     sim.solver.resume(state)
     sim.solver.n_steps = 200
     while not sim.solver.done(state):
