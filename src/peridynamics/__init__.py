@@ -1,18 +1,59 @@
-"""peridynamics: peridynamic simulation of deformation, wave propagation and fracture."""
+"""peridynamics: peridynamic simulation of deformation, wave propagation and fracture.
 
-from importlib.metadata import PackageNotFoundError, version
+The names below are imported when first used (PEP 562), so that ``import
+peridynamics.cli`` (the command line) starts without loading NumPy, Numba and the
+models before it can handle Ctrl-C.
+"""
 
-try:
-    __version__ = version("peridynamics")
-except PackageNotFoundError:  # running from a source tree
-    __version__ = "0.0.0+src"
+from __future__ import annotations
 
-from peridynamics.bonds import Bonds, build_bonds
-from peridynamics.damage import CriticalStretch
-from peridynamics.evaluation import Evaluator
-from peridynamics.families.pmb import BondBasedMaterial
-from peridynamics.geometry import PointCloud
-from peridynamics.solvers import ExplicitSolver, State
+from importlib import import_module
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from peridynamics.bonds import Bonds, build_bonds
+    from peridynamics.damage import CriticalStretch
+    from peridynamics.evaluation import Evaluator
+    from peridynamics.families.pmb import BondBasedMaterial
+    from peridynamics.geometry import PointCloud
+    from peridynamics.solvers import ExplicitSolver, State
+
+#: public name -> the module it lives in
+_LAZY = {
+    "BondBasedMaterial": "peridynamics.families.pmb",
+    "Bonds": "peridynamics.bonds",
+    "CriticalStretch": "peridynamics.damage",
+    "ExplicitSolver": "peridynamics.solvers",
+    "Evaluator": "peridynamics.evaluation",
+    "PointCloud": "peridynamics.geometry",
+    "State": "peridynamics.solvers",
+    "build_bonds": "peridynamics.bonds",
+}
+
+
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("peridynamics")
+    except PackageNotFoundError:  # running from a source tree
+        return "0.0.0+src"
+
+
+def __getattr__(name: str) -> Any:
+    if name == "__version__":
+        globals()[name] = value = _version()
+        return value
+    if name in _LAZY:
+        value = getattr(import_module(_LAZY[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'peridynamics' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted([*globals(), *_LAZY, "__version__"])
+
 
 __all__ = [
     "BondBasedMaterial",

@@ -11,6 +11,7 @@ other ranks answer its requests (:mod:`peridynamics.parallel.session`).
 from __future__ import annotations
 
 import os
+import signal
 import time
 from collections.abc import Callable
 from functools import partial
@@ -20,15 +21,18 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from peridynamics import deck as dk
-from peridynamics.app.run_progress import StopRequest, progress_bar
+from peridynamics.app.run_progress import StopRequest, progress_bar, signal_name
 from peridynamics.app.run_resume import resume_point
+from peridynamics.build.errors import SetupError
 from peridynamics.build.outputs import run_options
 from peridynamics.build.simulation import SimulationSetup
+from peridynamics.io.atomic import save_npz
 from peridynamics.io.checkpoint import CHECKPOINT_NAME
 from peridynamics.io.observers.base import Observer, RunContext, RunOptions, new_records
 from peridynamics.io.observers.events import CrashAtStep
 from peridynamics.io.observers.frames import VTKFrames
 from peridynamics.io.observers.registry import observers_for
+from peridynamics.io.run_lock import FolderLocked, RunLock
 from peridynamics.io.summary import write_summary
 from peridynamics.solvers.base import Solver
 from peridynamics.solvers.explicit import SimulationUnstable
@@ -50,6 +54,8 @@ class RunLoop:
     setup_s: float
     session: Any
     global_cloud: PointCloud | None
+    #: the signal that stopped the run (SIGINT unless another was received)
+    _stop_signal: int = int(signal.SIGINT)
 
     def fingerprint(self) -> str:
         """Hash of what a checkpoint must match (:meth:`SimulationSetup.fingerprint`)."""
@@ -65,6 +71,11 @@ class RunLoop:
     ) -> dict:
         """Run to the end, writing output into ``out_dir``; returns the summary mapping.
 
+        The run holds ``out_dir`` while it writes (``.peridynamics.lock``,
+        :class:`~peridynamics.io.run_lock.RunLock`): a second run on the same folder is
+        refused (SetupError naming the process that holds it); a lock left by a killed
+        run is taken over with a warning.
+
         The loop is generic: ``solver.step`` until ``solver.done``, every observer's
         ``on_step`` after each step. Raises SimulationUnstable after writing
         ``last_good.vtu`` and a summary whose ``status`` is ``"unstable"``.
@@ -74,14 +85,47 @@ class RunLoop:
         writes a checkpoint of its final state that records that the run finished, so a
         ``resume`` of a finished run is refused (SetupError).
 
-        Ctrl-C (SIGINT, in the main thread) stops the run after the step in progress:
+        Ctrl-C (SIGINT, in the main thread), SIGTERM, SIGHUP or SIGUSR1 stops the run after the step in progress:
         the state after that step is complete (the solver and every observer have run),
         so a checkpoint of it is written when checkpointing is on, then the outputs and
         a summary with status ``"interrupted"``; :class:`RunInterrupted` is raised. A
         second Ctrl-C aborts at once (KeyboardInterrupt, nothing more written).
         """
         out = Path(out_dir)
-        out.mkdir(parents=True, exist_ok=True)
+        lock = self._lock(out, "--resume" if resume else "--out")
+        try:
+            return self._run(out, quiet, checkpoint_every, resume, progress)
+        finally:
+            if lock is not None:
+                lock.release()
+
+    def _lock(self, out: Path, what: str) -> RunLock | None:
+        """Hold ``out`` for this run (rank 0 under MPI; every rank learns whether the
+        folder could be taken). Raises SetupError naming the process that holds it."""
+        dist = self.session
+        lock, problem = None, ""
+        if dist is None or dist.root:
+            try:
+                lock = RunLock(out, what).acquire()
+            except FolderLocked as exc:
+                problem = str(exc)
+            except OSError as exc:
+                problem = f"{str(out)!r}: cannot write there ({exc.strerror or exc})"
+        if dist is not None and dist.comm.any(bool(problem)):
+            problem = problem or "rank 0 could not take the output folder"
+        if problem:
+            raise SetupError(what, problem)
+        return lock
+
+    def _run(
+        self,
+        out: Path,
+        quiet: bool,
+        checkpoint_every: int | None,
+        resume: bool,
+        progress: bool,
+    ) -> dict:
+        """:meth:`run` in a folder this run holds."""
         dist = self.session  # a decomposed run: rank 0 observes, the others serve
         root = dist is None or dist.root
         if root:
@@ -99,7 +143,7 @@ class RunLoop:
         records["checkpoint_every"] = every
         ctx = self._context(out, records, finished)
         observers = self._observers(ctx.run, ctx.model, every) if root else []
-        total = self._sync(state, 0, False)[1]
+        total = self._sync(state, 0, 0)[1]
         self._observe(state, ctx, partial(_on_start, observers, ctx, resume), total)
         n_total = solver.total_steps()
         t_start = time.perf_counter()
@@ -118,7 +162,7 @@ class RunLoop:
                     before = state.bonds_broken
                     result = solver.step(state)
                     broken, total, stopped = self._sync(
-                        state, state.bonds_broken - before, stop.requested
+                        state, state.bonds_broken - before, stop.signum if stop.requested else 0
                     )
                     result.broken = broken
                     steps_done_here += 1
@@ -130,6 +174,8 @@ class RunLoop:
                     if state.step % 50 == 0 or solver.done(state):
                         bar.update(state.step)
                 stopped = stopped or (dist is None and stop.requested)
+                if dist is None and stop.requested:
+                    self._stop_signal = stop.signum
                 if not stopped:
                     solver.check(state)  # the last steps are checked too
         except SimulationUnstable as exc:
@@ -148,7 +194,9 @@ class RunLoop:
             checkpoint = None
             if every:  # after _finish: the records then list the frame it wrote
                 checkpoint = self._checkpoint(ctx, state, {"finished": False})
-            raise RunInterrupted(state.step, state.t, n_total, checkpoint, summary)
+            raise RunInterrupted(
+                state.step, state.t, n_total, checkpoint, summary, self._stop_signal
+            )
         summary = self._finish(ctx, state, observers, wall, steps_done_here, work, error)
         if every:  # the final state, marked finished: a --resume of it is refused
             self._checkpoint(ctx, state, {"finished": True})
@@ -180,15 +228,18 @@ class RunLoop:
         """Directed bonds of the whole body (owned families of every rank)."""
         return int(self.session.comm.sum(float(self.model.owned_bonds)))
 
-    def _sync(self, state: State, broken: int, stop: bool) -> tuple[int, int, bool]:
-        """(bonds broken by this step, bonds broken in the run, Ctrl-C somewhere) over
-        every rank (one ``Allreduce``)."""
+    def _sync(self, state: State, broken: int, stop: int) -> tuple[int, int, bool]:
+        """(bonds broken by this step, bonds broken in the run, a stop signal somewhere)
+        over every rank (one ``Allreduce``); ``stop``: the number of the signal this
+        rank received (0: none), kept in ``_stop_signal``."""
         if self.session is None:
-            return broken, state.bonds_broken, stop
+            return broken, state.bonds_broken, stop > 0
         v = self.session.comm.sum_array(
-            np.array([broken, state.bonds_broken, 1.0 if stop else 0.0], dtype=np.float64)
+            np.array([broken, state.bonds_broken, stop, stop > 0], dtype=np.float64)
         )
-        return int(v[0]), int(v[1]), bool(v[2] > 0)
+        if v[3] > 0:  # the signal the ranks that received one received (mpiexec forwards)
+            self._stop_signal = int(round(v[2] / v[3]))
+        return int(v[0]), int(v[1]), bool(v[3] > 0)
 
     def _observe(
         self, state: State, ctx: RunContext, work: Callable[[State], Any], total: int
@@ -239,7 +290,7 @@ class RunLoop:
         """final_state.npz, the results every run has, then each observer's (rank 0
         under MPI, the other ranks serving; they return an empty mapping)."""
         got: dict[str, Any] = {}
-        total = self._sync(s, 0, False)[1]
+        total = self._sync(s, 0, 0)[1]
         ranks: dict[str, Any] | None = None
         if self.session is not None:  # the halo time of the slowest rank, memory per rank
             comm = self.session.comm
@@ -284,7 +335,7 @@ class RunLoop:
                 extra_fields[name] = s[name]
         if not distributed:  # per-bond flags stay on their rank under MPI
             extra_fields["intact"] = s.intact
-        np.savez(
+        save_npz(
             ctx.out / "final_state.npz",
             u=s.u,
             v=s.v,
@@ -330,6 +381,8 @@ class RunLoop:
         if ranks is not None:  # a decomposed run
             timing.update(ranks)
         extra: dict[str, Any] = {"status": ctx.status, "files": files}
+        if ctx.status == "interrupted":
+            extra["stop_signal"] = signal_name(self._stop_signal)
         if error:
             extra["error"] = error
         return write_summary(
@@ -378,15 +431,22 @@ def _crash_hook(dist: Any) -> int | None:
 
 
 class RunInterrupted(KeyboardInterrupt):
-    """The run stopped at a user's request (Ctrl-C) after a complete step; the outputs
-    and a summary with status ``"interrupted"`` are written, and ``checkpoint`` is the
-    checkpoint of that state (``None`` when checkpointing was off)."""
+    """The run stopped at a user's or a batch system's request (Ctrl-C, SIGTERM, SIGHUP,
+    SIGUSR1: ``signum``) after a complete step; the outputs and a summary with status
+    ``"interrupted"`` are written, and ``checkpoint`` is the checkpoint of that state
+    (``None`` when checkpointing was off)."""
 
     def __init__(
-        self, step: int, t: float, total: int, checkpoint: Path | None, summary: dict
+        self,
+        step: int,
+        t: float,
+        total: int,
+        checkpoint: Path | None,
+        summary: dict,
+        signum: int = int(signal.SIGINT),
     ) -> None:
         self.step, self.t, self.total = step, t, total
-        self.checkpoint, self.summary = checkpoint, summary
+        self.checkpoint, self.summary, self.signum = checkpoint, summary, signum
         super().__init__(f"interrupted after step {step} of {total} (t = {t:.6g} s)")
 
 

@@ -1,5 +1,6 @@
 """What the run loop shows and hears while it steps: the progress bar (steps per second
-and the time left) and the Ctrl-C request that stops a run between two steps."""
+and the time left) and the stop request (Ctrl-C, SIGTERM, SIGHUP, SIGUSR1) that ends a run between two
+steps."""
 
 from __future__ import annotations
 
@@ -9,31 +10,51 @@ import time
 from typing import Any
 
 
+#: the signals that stop a run between two steps as Ctrl-C does: SIGINT (Ctrl-C),
+#: SIGTERM (a batch system's time limit, ``kill``), SIGHUP (the terminal closed) and
+#: SIGUSR1 (Slurm's ``--signal=USR1@SECONDS`` warning before the time limit)
+STOP_SIGNALS = tuple(
+    getattr(signal, name)
+    for name in ("SIGINT", "SIGTERM", "SIGHUP", "SIGUSR1")
+    if hasattr(signal, name)
+)
+
+
+def signal_name(signum: int) -> str:
+    """``SIGTERM`` for 15, and so on."""
+    try:
+        return signal.Signals(signum).name
+    except ValueError:
+        return f"signal {signum}"
+
+
 class StopRequest:
-    """While active (a context manager, main thread only), the first SIGINT only sets
-    ``requested`` so that the run loop stops between two steps; a second one raises
-    KeyboardInterrupt at once. Elsewhere SIGINT keeps its handler."""
+    """While active (a context manager, main thread only), the first of the
+    :data:`STOP_SIGNALS` only sets ``requested`` (and ``signum``) so that the run loop
+    stops between two steps; a second one raises KeyboardInterrupt at once. Elsewhere
+    the signals keep their handlers."""
 
     def __init__(self) -> None:
         self.requested = False
-        self._previous: Any = None
-        self._installed = False
+        self.signum = int(signal.SIGINT)
+        self._previous: dict[int, Any] = {}
 
     def _handler(self, signum: int, frame: Any) -> None:
         if self.requested:
             raise KeyboardInterrupt
         self.requested = True
+        self.signum = signum
 
     def __enter__(self) -> StopRequest:
         if threading.current_thread() is threading.main_thread():
-            self._previous = signal.signal(signal.SIGINT, self._handler)
-            self._installed = True
+            for sig in STOP_SIGNALS:
+                self._previous[sig] = signal.signal(sig, self._handler)
         return self
 
     def __exit__(self, *exc: object) -> None:
-        if self._installed:
-            signal.signal(signal.SIGINT, self._previous)
-            self._installed = False
+        for sig, previous in self._previous.items():
+            signal.signal(sig, previous)
+        self._previous = {}
 
 
 class _NoBar:

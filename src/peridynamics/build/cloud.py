@@ -20,6 +20,11 @@ from peridynamics.bonds.bonds import Bonds
 from peridynamics.build.bodies import build_body_points, has_bodies
 from peridynamics.build.errors import SetupError
 from peridynamics.build.geometry import geometry_cloud
+from peridynamics.build.plausibility import (
+    warn_horizon,
+    warn_idle_precracks,
+    warn_overlapping_bodies,
+)
 from peridynamics.build.regions import to_region
 from peridynamics.geometry import Notch, PointCloud
 
@@ -65,6 +70,7 @@ def build_cloud(deck: dk.Deck) -> PointCloud:
         fit = cloud.grid_fit
         cloud, layout = build_body_points(deck, cloud)
         cloud = replace(cloud, grid_fit=fit)
+        warn_overlapping_bodies(deck, cloud, layout)
         body_sets = layout.node_sets()
         clash = sorted(set(body_sets) & set(deck.node_sets))
         if clash:
@@ -102,6 +108,7 @@ def build_cloud(deck: dk.Deck) -> PointCloud:
 
     for name in deck.node_sets:
         resolve(name)
+    warn_horizon(deck, cloud)
     return cloud.with_node_sets(**sets)
 
 
@@ -131,6 +138,8 @@ def build_bonds_for(deck: dk.Deck, cloud: PointCloud) -> Bonds:
     try:
         cracks = [make_crack(c.points) for c in deck.precracks]
         cracks += [notch.crack(z_bounds) for notch in notches]
-        return build_bonds(cloud, d.delta, d.partial_volume, cracks)
+        bonds = build_bonds(cloud, d.delta, d.partial_volume, cracks)
     except ValueError as exc:
         raise SetupError("discretisation", str(exc)) from None
+    warn_idle_precracks(deck, cloud.x, bonds)
+    return bonds

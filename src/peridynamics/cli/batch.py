@@ -38,7 +38,7 @@ def register(sub: Any) -> None:
     deck_args(en)
     en.add_argument("--n", type=int, default=5, help="number of realisations")
     en.add_argument("--seed0", type=int, default=0, help="first seed (then +1, +2, ...)")
-    en.add_argument("--out", help="output folder (default results/<name>_ensemble)")
+    en.add_argument("-o", "--out", help="output folder (default results/<name>_ensemble)")
     en.add_argument("--quiet", action="store_true")
     large_arg(en)
     en.set_defaults(func=cmd_ensemble)
@@ -64,7 +64,9 @@ def register(sub: Any) -> None:
         "--cases", metavar="FILE", help="cases from a file: YAML list of {key.path: value}, or CSV"
     )
     sw.add_argument("--jobs", type=int, default=1, metavar="N", help="cases run at a time")
-    sw.add_argument("--out", metavar="DIR", help="output folder (default results/<name>_sweep)")
+    sw.add_argument(
+        "-o", "--out", metavar="DIR", help="output folder (default results/<name>_sweep)"
+    )
     sw.add_argument("--plot", metavar="COL,COL", help="sweep.csv columns drawn in sweep.png")
     sw.add_argument(
         "--checkpoint-every",

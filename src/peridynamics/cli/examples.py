@@ -54,7 +54,17 @@ def cmd_examples(args: argparse.Namespace) -> int:
         return EXIT_INVALID
     src = ex[args.name]
     dest = Path(args.dest or ".")
-    dest.mkdir(parents=True, exist_ok=True)
+    if dest.exists() and not dest.is_dir():
+        err(
+            f"examples copy: {str(dest)!r} is a file; DEST is a folder to copy the example "
+            f"into (e.g. peridynamics examples copy {args.name} mine/)"
+        )
+        return EXIT_INVALID
+    try:
+        dest.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        err(f"examples copy: cannot make the folder {str(dest)!r}: {exc.strerror}")
+        return EXIT_INVALID
     # an example is its folder (decks, mesh files, scripts, README): copy all of it;
     # only a deck lying at the top of the examples tree is copied alone
     whole_folder = src.parent != examples_dir()

@@ -19,9 +19,16 @@ from peridynamics.app.checks import (
     size_problem,
     work_problem,
 )
-from peridynamics.app.exit_codes import EXIT_INTERRUPTED, EXIT_INVALID, EXIT_OK, EXIT_UNSTABLE
+from peridynamics.app.exit_codes import EXIT_INVALID, EXIT_OK, EXIT_UNSTABLE, exit_for_signal
+from peridynamics.app.run_progress import signal_name
 from peridynamics.build.estimates import estimate_size, estimate_steps
-from peridynamics.cli.common import EXIT_CODES, HELP_TOPICS, deck_args, large_arg
+from peridynamics.cli.common import (
+    EXIT_CODES,
+    HELP_TOPICS,
+    deck_args,
+    large_arg,
+    out_folder_problem,
+)
 from peridynamics.deck import MeshGeometry
 
 
@@ -86,7 +93,7 @@ def _bad_run_args(args: argparse.Namespace) -> bool:
     if args.resume and not Path(args.resume).is_dir():
         err(f"--resume: no run folder {args.resume!r}")
         return True
-    return False
+    return out_folder_problem(args.out, "--out")
 
 
 def _announce(deck: Any, sim: Any, out: Path) -> None:
@@ -103,12 +110,14 @@ def _announce(deck: Any, sim: Any, out: Path) -> None:
 
 
 def _interrupted(exc: Any, args: argparse.Namespace, out: Path, rank: int) -> int:
-    """Report a run stopped by Ctrl-C (rank 0) and how to resume it."""
+    """Report a run stopped by Ctrl-C or a stop signal (rank 0) and how to resume it;
+    the exit code is 128 + the signal's number (130 for Ctrl-C, 143 for SIGTERM)."""
+    code = exit_for_signal(exc.signum)
     if rank != 0:
-        return EXIT_INTERRUPTED
+        return code
     err(
-        f"interrupted after step {exc.step} of {exc.total} (t = {exc.t:.6g} s); wrote "
-        f'{out / "summary.json"} (status "interrupted")'
+        f"interrupted after step {exc.step} of {exc.total} (t = {exc.t:.6g} s, "
+        f'{signal_name(exc.signum)}); wrote {out / "summary.json"} (status "interrupted")'
     )
     if exc.checkpoint is not None:
         err(f"checkpoint: {exc.checkpoint}\nresume with: {_resume_hint(args, out)}")
@@ -117,7 +126,7 @@ def _interrupted(exc: Any, args: argparse.Namespace, out: Path, rank: int) -> in
             "no checkpoint (checkpointing is off): run with --checkpoint-every N "
             "to be able to resume an interrupted run"
         )
-    return EXIT_INTERRUPTED
+    return code
 
 
 def _done(args: argparse.Namespace, out: Path, summary: dict[str, Any]) -> None:
@@ -154,8 +163,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     if deck is None:
         return EXIT_INVALID
     out = Path(args.resume or args.out or Path("results") / deck.name)
-    if out.exists() and not out.is_dir():
-        err(f"--out: {str(out)!r} exists and is not a folder")
+    if out_folder_problem(str(out), "--resume" if args.resume else "--out", create=True):
         return EXIT_INVALID
     every = args.checkpoint_every if args.resume else (args.checkpoint_every or 0)
     comm = _run_comm()
@@ -237,7 +245,7 @@ def register(sub: Any) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     deck_args(r)
-    r.add_argument("--out", help="output folder (default results/<name>)")
+    r.add_argument("-o", "--out", help="output folder (default results/<name>)")
     r.add_argument("--quiet", action="store_true", help="no progress bar or messages")
     r.add_argument(
         "--checkpoint-every",

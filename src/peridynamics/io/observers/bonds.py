@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from peridynamics.io.atomic import save_npz
 from peridynamics.io.observers.base import Observer, RunContext
 from peridynamics.state import State
 
@@ -35,7 +36,7 @@ class BondList(Observer):
 def _save_bonds(path: Path, table: dict[str, NDArray], model: Any) -> None:
     """``bonds.npz`` of a bond table (:func:`half_bonds`)."""
     cloud = model.cloud
-    np.savez(
+    save_npz(
         path,
         i=table["i"].astype(np.int32),
         j=table["j"].astype(np.int32),

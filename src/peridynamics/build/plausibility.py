@@ -1,0 +1,106 @@
+"""Warnings for admissible but implausible set-ups: a deck that validates and runs, but
+almost certainly not as its author meant.
+
+Each warning names the deck key and the reason (:class:`ImplausibleInput`, shown by the
+command line as ``warning: ...``):
+
+- a horizon larger than half the body's largest extent (every point bonded to nearly
+  every other);
+- a separate body (``bodies[k].geometry``) whose points lie on another body's points;
+- a pre-crack that cuts no bond (it lies outside the body).
+
+The time step, the damping and the material constants are judged by the solver's set-up
+(:mod:`peridynamics.solvers.explicit`); node sets that select nothing are errors.
+"""
+
+from __future__ import annotations
+
+import warnings
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import NDArray
+
+from peridynamics import deck as dk
+from peridynamics.bonds.precrack import crossing_bonds, make_crack
+
+if TYPE_CHECKING:
+    from peridynamics.bodies.build import BodyLayout
+    from peridynamics.bonds import Bonds
+    from peridynamics.geometry import PointCloud
+
+#: a horizon above this fraction of the body's largest extent is reported
+HORIZON_FRACTION = 0.5
+#: points of two bodies nearer than this fraction of the spacing overlap
+OVERLAP_FRACTION = 0.5
+
+
+class ImplausibleInput(UserWarning):
+    """An admissible deck value that is almost certainly a mistake."""
+
+
+def _horizon_key(deck: dk.Deck) -> str:
+    d = deck.discretisation
+    return "discretisation.horizon" if d.horizon is not None else "discretisation.horizon_factor"
+
+
+def warn_horizon(deck: dk.Deck, cloud: PointCloud) -> None:
+    """Warn when the horizon exceeds :data:`HORIZON_FRACTION` of the body's largest
+    extent (m)."""
+    extent = float(np.max(cloud.bounds[1] - cloud.bounds[0])) if cloud.n_points > 1 else 0.0
+    delta = deck.discretisation.delta
+    if extent <= 0.0 or delta <= HORIZON_FRACTION * extent:
+        return
+    warnings.warn(
+        f"{_horizon_key(deck)}: the horizon {delta:.6g} m is larger than half the body's "
+        f"largest extent ({extent:.6g} m): every point is bonded to nearly every other "
+        f"and the model is no longer local (the horizon is usually about 3 spacings, "
+        f"horizon_factor: 3.015; spacing {cloud.spacing:.6g} m)",
+        ImplausibleInput,
+        stacklevel=2,
+    )
+
+
+def warn_overlapping_bodies(deck: dk.Deck, cloud: PointCloud, layout: BodyLayout) -> None:
+    """Warn for every separate body (``bodies[k].geometry``) whose points lie within
+    :data:`OVERLAP_FRACTION` of a spacing of another body's points."""
+    from scipy.spatial import cKDTree
+
+    owner = layout.body_of_points()
+    tol = OVERLAP_FRACTION * cloud.spacing
+    for k, spec in enumerate(deck.bodies):
+        if spec.geometry is None:
+            continue  # a region of the main geometry: its points are not duplicated
+        lo, hi = layout.range_of(k + 1)
+        others = np.flatnonzero(owner != k + 1)
+        if hi <= lo or others.size == 0:
+            continue
+        dist, near = cKDTree(cloud.x[others]).query(cloud.x[lo:hi], distance_upper_bound=tol)
+        hit = np.isfinite(dist)
+        if not hit.any():
+            continue
+        other = layout.names[int(owner[others[near[hit][0]]])]
+        warnings.warn(
+            f"bodies.{k}.geometry: {int(hit.sum())} of the {hi - lo} points of body "
+            f"{spec.name!r} overlap points of body {other!r} (nearer than "
+            f"{tol:.3g} m); two bodies in one place double the mass and stiffness there "
+            f"- move the body (geometry origin) or make it a region of the main body",
+            ImplausibleInput,
+            stacklevel=2,
+        )
+
+
+def warn_idle_precracks(deck: dk.Deck, x: NDArray[np.float64], bonds: Bonds) -> None:
+    """Warn for every pre-crack that crosses no bond (it lies outside the body)."""
+    for n, spec in enumerate(deck.precracks):
+        crack = make_crack(spec.points)
+        if crossing_bonds(x, bonds.bond_i, bonds.bond_j, [crack]).any():
+            continue
+        lo, hi = x.min(axis=0), x.max(axis=0)
+        warnings.warn(
+            f"precracks.{n}: the pre-crack {np.asarray(spec.points).tolist()} cuts no "
+            f"bond; the points span {lo.tolist()} .. {hi.tolist()} m - check its "
+            f"coordinates",
+            ImplausibleInput,
+            stacklevel=2,
+        )

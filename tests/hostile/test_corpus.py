@@ -1,0 +1,185 @@
+"""The hostile corpus: decks and command lines a new user or an attacker tries, kept as
+data (``tests/hostile/cases_*.yaml``) with the exit code and the message each must give.
+
+Each case runs ``peridynamics ARGV`` in-process in a folder of its own. A case names
+
+- ``id`` (unique) and ``origin``: ``issue`` (reported by users) or ``own`` (added by
+  us or found by the fuzzer);
+- ``deck`` (optional): an example whose ``deck.yaml`` and sibling files are copied into
+  the folder, with ``set`` (dotted keys) changed in the copy;
+- ``files`` (optional): files written into the folder, each ``{text: ...}``,
+  ``{hex: ...}`` or ``{python: <expression giving bytes>}`` (``deck_text`` is the
+  example deck's text);
+- ``before`` (optional): command lines run first (any exit accepted);
+- ``damage`` (optional): then files ``{path, truncate: fraction}``, ``{path, garbage:
+  n_bytes}`` or ``{path, delete: true}``;
+- ``argv`` (or ``python_argv``: an expression giving the list, for long ones) and
+  ``expect``: ``exit`` and ``outcome`` (``error``: a non-zero exit and the
+  fragment on stderr; ``warning``: exit 0 and a ``warning:`` line with the fragment;
+  ``run``: exit 0), ``stderr``: a fragment (or a list of them), case-insensitive.
+
+Every case also must end without a Python traceback, and a run that exits 0 must write
+a ``summary.json`` without NaN or infinity in its results.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import shutil
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+import yaml
+
+from tests.helpers import EXAMPLES, cli
+
+HERE = Path(__file__).parent
+OUTCOMES = ("error", "warning", "run")
+
+
+def load_cases() -> list[dict[str, Any]]:
+    """Every case of ``cases_*.yaml`` (ids checked unique)."""
+    cases: list[dict[str, Any]] = []
+    for path in sorted(HERE.glob("cases_*.yaml")):
+        for case in yaml.safe_load(path.read_text(encoding="utf-8")) or []:
+            case["_file"] = path.name
+            cases.append(case)
+    ids = [c["id"] for c in cases]
+    dup = {i for i in ids if ids.count(i) > 1}
+    if dup:
+        raise ValueError(f"hostile corpus: ids given twice: {sorted(dup)}")
+    return cases
+
+
+def _set_key(data: dict[str, Any], dotted: str, value: Any) -> None:
+    node: Any = data
+    parts = dotted.split(".")
+    for part in parts[:-1]:
+        node = node[int(part)] if isinstance(node, list) else node.setdefault(part, {})
+    if isinstance(node, list):
+        node[int(parts[-1])] = value
+    else:
+        node[parts[-1]] = value
+
+
+def prepare(case: dict[str, Any], folder: Path) -> None:
+    """Write the case's deck and files into ``folder``, run ``before``, apply ``damage``."""
+    deck_text = ""
+    if "deck" in case:
+        src = EXAMPLES / case["deck"]
+        for f in src.iterdir():
+            if f.is_file() and f.suffix not in {".png", ".json", ".md", ".py"}:
+                shutil.copy(f, folder / f.name)
+        deck_text = (src / "deck.yaml").read_text(encoding="utf-8")
+        data = yaml.safe_load(deck_text)
+        for key, value in (case.get("set") or {}).items():
+            _set_key(data, key, value)
+        deck_text = yaml.safe_dump(data, sort_keys=False)
+        (folder / "deck.yaml").write_text(deck_text, encoding="utf-8")
+    for name, spec in (case.get("files") or {}).items():
+        path = folder / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        if "text" in spec:
+            path.write_text(spec["text"], encoding="utf-8")
+        elif "hex" in spec:
+            path.write_bytes(bytes.fromhex(spec["hex"]))
+        else:
+            path.write_bytes(eval(spec["python"], {"deck_text": deck_text}))  # noqa: S307
+    for argv in case.get("before") or []:
+        cli(*argv, cwd=folder)
+    rng = np.random.default_rng(31)
+    for spec in case.get("damage") or []:
+        path = folder / spec["path"]
+        if spec.get("delete"):
+            path.unlink()
+        elif "truncate" in spec:
+            raw = path.read_bytes()
+            path.write_bytes(raw[: int(len(raw) * float(spec["truncate"]))])
+        else:
+            path.write_bytes(rng.integers(0, 256, int(spec["garbage"]), dtype=np.uint8).tobytes())
+
+
+def argv_of(case: dict[str, Any]) -> list[str]:
+    """The command line of a case."""
+    if "python_argv" in case:
+        return list(eval(case["python_argv"], {}))  # noqa: S307
+    return [str(a) for a in case["argv"]]
+
+
+def judge(case: dict[str, Any], rc: int, stderr: str, folder: Path) -> str | None:
+    """What is wrong with the outcome of a case (``None``: as expected)."""
+    expect = case["expect"]
+    if "Traceback" in stderr:
+        return f"a traceback:\n{stderr}"
+    if rc != expect["exit"]:
+        return f"exit {rc}, expected {expect['exit']}:\n{stderr}"
+    frags = expect.get("stderr") or []
+    frags = [frags] if isinstance(frags, str) else frags
+    low = stderr.lower()
+    missing = [f for f in frags if f.lower() not in low]
+    if missing:
+        return f"stderr lacks {missing}:\n{stderr}"
+    if expect["outcome"] == "warning" and "warning:" not in low:
+        return f"no 'warning:' line:\n{stderr}"
+    if rc == 0:
+        for summary in folder.rglob("summary.json"):
+            results = json.loads(summary.read_text()).get("results", {})
+            bad = [k for k, v in results.items() if isinstance(v, float) and not math.isfinite(v)]
+            if bad:
+                return f"{summary}: non-finite results {bad}"
+    return None
+
+
+CASES = load_cases()
+
+
+@pytest.mark.parametrize("case", CASES, ids=[c["id"] for c in CASES])
+def test_hostile_case(case: dict[str, Any], tmp_path: Path) -> None:
+    """The case ends with its documented exit code and message, and no traceback."""
+    assert case["expect"]["outcome"] in OUTCOMES, case["id"]
+    assert case.get("origin") in {"issue", "own"}, case["id"]
+    prepare(case, tmp_path)
+    proc = cli(*argv_of(case), cwd=tmp_path, env={"COLUMNS": "200"})
+    problem = judge(case, proc.returncode, proc.stderr, tmp_path)
+    assert problem is None, f"{case['id']} ({case['_file']}): {problem}"
+
+
+def corpus_report(cases: list[dict[str, Any]], root: Path) -> dict[str, int]:
+    """Outcome counts of the corpus (``python -m tests.hostile.test_corpus``): clean
+    error, warning, correct run, traceback, silent acceptance (exit 0 where an error
+    or a warning was expected), other mismatch."""
+    counts = dict.fromkeys(("error", "warning", "run", "traceback", "silent", "mismatch"), 0)
+    for case in cases:
+        folder = root / case["id"]
+        folder.mkdir(parents=True)
+        try:
+            prepare(case, folder)
+            proc = cli(*argv_of(case), cwd=folder)
+            rc, stderr = proc.returncode, proc.stderr
+        except Exception as exc:  # noqa: BLE001 - an escaped exception is a traceback
+            rc, stderr = 1, f"Traceback: {exc!r}"
+        problem = judge(case, rc, stderr, folder)
+        want = case["expect"]["outcome"]
+        if problem is None:
+            counts[want] += 1
+        elif "Traceback" in stderr:
+            counts["traceback"] += 1
+        elif rc == 0 and ("warning:" not in stderr.lower() or want == "error"):
+            counts["silent"] += 1
+        else:
+            counts["mismatch"] += 1
+        if problem is not None:
+            print(f"{case['id']}: {problem.splitlines()[0]}")
+    return counts
+
+
+if __name__ == "__main__":
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as tmp:
+        print(json.dumps(corpus_report(CASES, Path(tmp)), indent=1))
+    os._exit(0)
