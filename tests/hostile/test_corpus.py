@@ -13,6 +13,8 @@ Each case runs ``peridynamics ARGV`` in-process in a folder of its own. A case n
 - ``before`` (optional): command lines run first (any exit accepted);
 - ``damage`` (optional): then files ``{path, truncate: fraction}``, ``{path, garbage:
   n_bytes}`` or ``{path, delete: true}``;
+- ``tier`` (optional): ``long`` puts a case of more than a few seconds in the ``long``
+  tier of ``.ci/run``;
 - ``argv`` (or ``python_argv``: an expression giving the list, for long ones) and
   ``expect``: ``exit`` and ``outcome`` (``error``: a non-zero exit and the
   fragment on stderr; ``warning``: exit 0 and a ``warning:`` line with the fragment;
@@ -137,7 +139,11 @@ def judge(case: dict[str, Any], rc: int, stderr: str, folder: Path) -> str | Non
 CASES = load_cases()
 
 
-@pytest.mark.parametrize("case", CASES, ids=[c["id"] for c in CASES])
+@pytest.mark.parametrize(
+    "case",
+    [pytest.param(c, marks=[pytest.mark.long] if c.get("tier") == "long" else []) for c in CASES],
+    ids=[c["id"] for c in CASES],
+)
 def test_hostile_case(case: dict[str, Any], tmp_path: Path) -> None:
     """The case ends with its documented exit code and message, and no traceback."""
     assert case["expect"]["outcome"] in OUTCOMES, case["id"]

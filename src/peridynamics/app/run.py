@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from peridynamics import deck as dk
 from peridynamics.app.run_progress import StopRequest, progress_bar, signal_name
@@ -333,8 +334,10 @@ class RunLoop:
         for name in ("interface_intact", "bond_kappa"):  # several bodies, softening bonds
             if name in s and not distributed:
                 extra_fields[name] = s[name]
-        if not distributed:  # per-bond flags stay on their rank under MPI
+        if not distributed:
             extra_fields["intact"] = s.intact
+        elif self.session is not None:  # gathered into the serial run's bond order
+            extra_fields["intact"] = self.session.call("call", _gather_intact)
         save_npz(
             ctx.out / "final_state.npz",
             u=s.u,
@@ -404,6 +407,24 @@ def _peak_rss_gib() -> float:
 def _gather_rss(session: Any) -> list[float]:
     """Peak resident memory of every rank (GiB), in rank order."""
     return list(session.comm.gather_objects(_peak_rss_gib()))
+
+
+def _gather_intact(session: Any) -> NDArray[np.bool_] | None:
+    """Every rank: send the flags of its owned bonds to rank 0, which returns them in
+    the order of a serial run's bonds (by global point id, then neighbour id)."""
+    m, s = session.model, session.state
+    b, end = m.bonds, int(m.owned_bonds)
+    gid = np.asarray(m.cloud.global_ids, dtype=np.int64)
+    rows = np.repeat(np.arange(len(b.offsets) - 1), np.diff(np.asarray(b.offsets)))[:end]
+    n = np.int64(session.global_cloud.n_points)
+    key = gid[rows] * n + gid[np.asarray(b.bond_j[:end])]
+    mine = (key, np.asarray(s.intact[:end], dtype=bool))
+    parts = session.comm.comm.gather(mine, root=0)  # to rank 0 only (mpi4py)
+    if not session.root:
+        return None
+    keys = np.concatenate([k for k, _ in parts])
+    flags = np.concatenate([f for _, f in parts])
+    return flags[np.argsort(keys, kind="stable")]
 
 
 def _on_start(observers: list[Observer], ctx: RunContext, resumed: bool, s: State) -> None:

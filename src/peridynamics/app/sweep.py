@@ -128,6 +128,10 @@ def _command(args: argparse.Namespace) -> str:
     return " ".join(shlex.quote(p) for p in parts)
 
 
+#: a sweep of more cases says that it validates them (about 1 ms each)
+MANY_CASES = 1000
+
+
 def _prepare(args: argparse.Namespace) -> tuple[list[Case], list[str]]:
     """Check the options, build and validate the cases (raises SweepError)."""
     if args.jobs < 1:
@@ -140,6 +144,8 @@ def _prepare(args: argparse.Namespace) -> tuple[list[Case], list[str]]:
     if not Path(args.deck).is_file():
         raise SweepError(f"no deck file {args.deck!r}")
     cases, keys = build_cases(args.grid, args.cases, args.set or [])
+    if len(cases) > MANY_CASES and not args.quiet:  # seconds of validation: say so
+        print(f"sweep: validating {len(cases)} cases ...", flush=True)
     problem = validate(args.deck, args.set or [], cases, args.allow_large)
     if problem:
         raise SweepError(problem.removeprefix("sweep: "))

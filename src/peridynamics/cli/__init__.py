@@ -57,7 +57,25 @@ def main(argv: list[str] | None = None) -> int:
             f"interrupted ({signal.Signals(signum).name}) during start-up; nothing was written\n"
         )
         return 128 + signum
-    return run_command(argv)
+    code = run_command(argv)
+    if argv is None and code > 128 and "mpi4py.MPI" not in sys.modules:
+        _exit_now(code)
+    return code
+
+
+def _exit_now(code: int) -> None:
+    """End the process with ``code`` now. After a KeyboardInterrupt raised inside C code
+    that ran Python source (a compiler's), the interpreter would end by killing itself
+    with SIGINT whatever the exit code; an interrupted command's code is 128 + the
+    signal's number (its outputs are closed and written by then)."""
+    import os
+
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):
+            pass
+    os._exit(code)
 
 
 def build_parser() -> Any:
