@@ -19,12 +19,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from numpy.typing import NDArray
 
 from peridynamics import deck as dk
+from peridynamics.app.run_folder import gather_intact, gather_rss, hold_folder
 from peridynamics.app.run_progress import StopRequest, progress_bar, signal_name
 from peridynamics.app.run_resume import resume_point
-from peridynamics.build.errors import SetupError
 from peridynamics.build.outputs import run_options
 from peridynamics.build.simulation import SimulationSetup
 from peridynamics.io.atomic import save_npz
@@ -33,7 +32,6 @@ from peridynamics.io.observers.base import Observer, RunContext, RunOptions, new
 from peridynamics.io.observers.events import CrashAtStep
 from peridynamics.io.observers.frames import VTKFrames
 from peridynamics.io.observers.registry import observers_for
-from peridynamics.io.run_lock import FolderLocked, RunLock
 from peridynamics.io.summary import write_summary
 from peridynamics.solvers.base import Solver
 from peridynamics.solvers.explicit import SimulationUnstable
@@ -86,37 +84,20 @@ class RunLoop:
         writes a checkpoint of its final state that records that the run finished, so a
         ``resume`` of a finished run is refused (SetupError).
 
-        Ctrl-C (SIGINT, in the main thread), SIGTERM, SIGHUP or SIGUSR1 stops the run after the step in progress:
-        the state after that step is complete (the solver and every observer have run),
-        so a checkpoint of it is written when checkpointing is on, then the outputs and
-        a summary with status ``"interrupted"``; :class:`RunInterrupted` is raised. A
-        second Ctrl-C aborts at once (KeyboardInterrupt, nothing more written).
+        Ctrl-C (SIGINT, in the main thread), SIGTERM, SIGHUP or SIGUSR1 stops the run
+        after the step in progress: the state after that step is complete (the solver
+        and every observer have run), so a checkpoint of it is written when
+        checkpointing is on, then the outputs and a summary with status
+        ``"interrupted"`` and ``stop_signal``; :class:`RunInterrupted` is raised. A
+        second signal aborts at once (KeyboardInterrupt, nothing more written).
         """
         out = Path(out_dir)
-        lock = self._lock(out, "--resume" if resume else "--out")
+        lock = hold_folder(out, "--resume" if resume else "--out", self.session)
         try:
             return self._run(out, quiet, checkpoint_every, resume, progress)
         finally:
             if lock is not None:
                 lock.release()
-
-    def _lock(self, out: Path, what: str) -> RunLock | None:
-        """Hold ``out`` for this run (rank 0 under MPI; every rank learns whether the
-        folder could be taken). Raises SetupError naming the process that holds it."""
-        dist = self.session
-        lock, problem = None, ""
-        if dist is None or dist.root:
-            try:
-                lock = RunLock(out, what).acquire()
-            except FolderLocked as exc:
-                problem = str(exc)
-            except OSError as exc:
-                problem = f"{str(out)!r}: cannot write there ({exc.strerror or exc})"
-        if dist is not None and dist.comm.any(bool(problem)):
-            problem = problem or "rank 0 could not take the output folder"
-        if problem:
-            raise SetupError(what, problem)
-        return lock
 
     def _run(
         self,
@@ -337,7 +318,7 @@ class RunLoop:
         if not distributed:
             extra_fields["intact"] = s.intact
         elif self.session is not None:  # gathered into the serial run's bond order
-            extra_fields["intact"] = self.session.call("call", _gather_intact)
+            extra_fields["intact"] = self.session.call("call", gather_intact)
         save_npz(
             ctx.out / "final_state.npz",
             u=s.u,
@@ -370,7 +351,7 @@ class RunLoop:
         for ob in observers:
             files += ob.finalize(ctx, s, results)
         if ranks is not None and self.session is not None:  # the peak after every output
-            ranks["peak_rss_gib_per_rank"] = self.session.call("call", _gather_rss)
+            ranks["peak_rss_gib_per_rank"] = self.session.call("call", gather_rss)
         n_b = m.bonds.n_bonds
         timing: dict[str, Any] = {
             "wall_s": wall,
@@ -395,36 +376,6 @@ class RunLoop:
             timing,
             extra,
         )
-
-
-def _peak_rss_gib() -> float:
-    """Peak resident memory of this process (GiB; Linux reports kB)."""
-    import resource
-
-    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20
-
-
-def _gather_rss(session: Any) -> list[float]:
-    """Peak resident memory of every rank (GiB), in rank order."""
-    return list(session.comm.gather_objects(_peak_rss_gib()))
-
-
-def _gather_intact(session: Any) -> NDArray[np.bool_] | None:
-    """Every rank: send the flags of its owned bonds to rank 0, which returns them in
-    the order of a serial run's bonds (by global point id, then neighbour id)."""
-    m, s = session.model, session.state
-    b, end = m.bonds, int(m.owned_bonds)
-    gid = np.asarray(m.cloud.global_ids, dtype=np.int64)
-    rows = np.repeat(np.arange(len(b.offsets) - 1), np.diff(np.asarray(b.offsets)))[:end]
-    n = np.int64(session.global_cloud.n_points)
-    key = gid[rows] * n + gid[np.asarray(b.bond_j[:end])]
-    mine = (key, np.asarray(s.intact[:end], dtype=bool))
-    parts = session.comm.comm.gather(mine, root=0)  # to rank 0 only (mpi4py)
-    if not session.root:
-        return None
-    keys = np.concatenate([k for k, _ in parts])
-    flags = np.concatenate([f for _, f in parts])
-    return flags[np.argsort(keys, kind="stable")]
 
 
 def _on_start(observers: list[Observer], ctx: RunContext, resumed: bool, s: State) -> None:

@@ -1,6 +1,6 @@
 """What the run loop shows and hears while it steps: the progress bar (steps per second
-and the time left) and the stop request (Ctrl-C, SIGTERM, SIGHUP, SIGUSR1) that ends a run between two
-steps."""
+and the time left) and the stop request (Ctrl-C, SIGTERM, SIGHUP, SIGUSR1) that ends a
+run between two steps."""
 
 from __future__ import annotations
 
@@ -8,7 +8,6 @@ import signal
 import threading
 import time
 from typing import Any
-
 
 #: the signals that stop a run between two steps as Ctrl-C does: SIGINT (Ctrl-C),
 #: SIGTERM (a batch system's time limit, ``kill``), SIGHUP (the terminal closed) and
