@@ -20,7 +20,7 @@ from pydantic import Field, model_validator
 from peridynamics.deck.damage import Damage
 from peridynamics.deck.geometry import Geometry, geometry_dim
 from peridynamics.deck.materials import AnyMaterial
-from peridynamics.deck.regions import RegionSpec, check_len, check_region
+from peridynamics.deck.regions import RegionSpec, check_len, check_region, cylinder_placed
 from peridynamics.deck.time_functions import TimeFunctionSpec
 from peridynamics.deck.types import Errors, Finite, NonNegFloat, PosFloat, Strict
 
@@ -106,12 +106,30 @@ class SphereShape(Strict):
 
 
 class CylinderShape(Strict):
-    """Solid capped cylinder (3-D: ``axis`` x, y or z, ``length``); in 2-D a disc."""
+    """Solid capped cylinder (3-D: ``axis`` x, y or z, or a vector along one of them,
+    and ``length``); placed by ``center`` (its middle) or ``base`` (the centre of one end
+    face), as a node-set cylinder is; in 2-D a disc."""
 
     center: list[Finite]
     radius: PosFloat
     axis: Literal["x", "y", "z"] = "z"
     length: PosFloat | None = None
+
+    @model_validator(mode="before")
+    @classmethod
+    def _either_form(cls, data: Any) -> Any:
+        if isinstance(data, dict) and "base" in data and data.get("length") is None:
+            raise ValueError("[length] a cylinder placed by its base needs its length (m)")
+        data = cylinder_placed(data, "center")
+        if isinstance(data, dict) and isinstance(data.get("axis"), list | tuple):
+            axis = [abs(float(c)) if isinstance(c, int | float) else 0.0 for c in data["axis"]]
+            along = [k for k, c in enumerate(axis) if c > 1e-12 * max(axis, default=0.0)]
+            if len(along) != 1 or along[0] > 2:
+                raise ValueError(
+                    f"[axis] a rigid cylinder's axis is along x, y or z (got {data['axis']})"
+                )
+            data["axis"] = "xyz"[along[0]]
+        return data
 
 
 class RigidShapeSpec(Strict):

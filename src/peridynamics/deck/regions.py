@@ -36,13 +36,62 @@ class BallRegion(Strict):
     radius: PosFloat
 
 
+AXES = {"x": [1.0, 0.0, 0.0], "y": [0.0, 1.0, 0.0], "z": [0.0, 0.0, 1.0]}
+
+
+def _numbers(v: Any) -> list[float] | None:
+    """``v`` as a list of finite floats, ``None`` if it is not one (the field's own
+    validation then says why)."""
+    if not isinstance(v, list | tuple) or not v:
+        return None
+    try:
+        out = [float(c) for c in v]
+    except (TypeError, ValueError, OverflowError):
+        return None
+    return out if all(math.isfinite(c) for c in out) else None
+
+
+def cylinder_placed(data: Any, keep: str) -> Any:
+    """A cylinder given either way (``base``: the centre of one end face, or ``center``:
+    its middle; ``axis``: x, y, z or a vector) rewritten to ``keep`` (``base`` or
+    ``center``), the axis a vector; other input is returned for the fields to judge."""
+    if not isinstance(data, dict):
+        return data
+    data = dict(data)
+    if isinstance(data.get("axis"), str) and data["axis"] in AXES:
+        data["axis"] = AXES[data["axis"]]
+    drop = "center" if keep == "base" else "base"
+    if drop not in data:
+        return data
+    if keep in data:
+        raise ValueError(f"[{drop}] give {keep} or {drop}, not both")
+    point, axis = _numbers(data[drop]), _numbers(data.get("axis", AXES["z"]))
+    length = data.get("length")
+    if point is None or axis is None or len(point) != len(axis) or not isinstance(
+        length, int | float
+    ):
+        return data  # reported by the fields (or: a length is needed to place it)
+    norm = math.sqrt(sum(c * c for c in axis)) or 1.0
+    sign = -0.5 if keep == "base" else 0.5
+    data[keep] = [p + sign * float(length) * a / norm for p, a in zip(point, axis, strict=True)]
+    del data[drop]
+    return data
+
+
 class CylinderRegionSpec(Strict):
-    """3-D cylinder from ``base`` along ``axis`` over ``length``."""
+    """3-D cylinder of ``radius`` and ``length`` along ``axis`` (x, y, z or a vector),
+    placed by ``base`` (the centre of one end face) or ``center`` (its middle), as a
+    rigid cylinder is; stored as ``base`` and an axis vector."""
 
     base: list[Finite]
     axis: list[Finite]
     radius: PosFloat
     length: PosFloat
+
+    @model_validator(mode="before")
+    @classmethod
+    def _either_form(cls, data: Any) -> Any:
+        return cylinder_placed(data, "base")
 
 
 class PolygonRegion(Strict):
