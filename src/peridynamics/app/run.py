@@ -26,6 +26,7 @@ from peridynamics.app.run_progress import StopRequest, progress_bar, signal_name
 from peridynamics.app.run_resume import resume_point
 from peridynamics.build.outputs import run_options
 from peridynamics.build.simulation import SimulationSetup
+from peridynamics.deck.changed_defaults import notices
 from peridynamics.io.atomic import save_npz
 from peridynamics.io.checkpoint import CHECKPOINT_NAME
 from peridynamics.io.observers.base import Observer, RunContext, RunOptions, new_records
@@ -365,6 +366,9 @@ class RunLoop:
         if ranks is not None:  # a decomposed run
             timing.update(ranks)
         extra: dict[str, Any] = {"status": ctx.status, "files": files}
+        changed = notices(self.deck)
+        if changed:  # defaults this deck relies on that changed (deck.changed_defaults)
+            extra["notices"] = changed
         if ctx.status == "interrupted":
             extra["stop_signal"] = signal_name(self._stop_signal)
         if error:

@@ -63,6 +63,11 @@ class Running:
     resumed: bool
 
 
+#: exit codes of a case stopped by Ctrl-C (130) or a batch system's signal (SIGHUP 129,
+#: SIGUSR1 138, SIGTERM 143): 128 + the signal's number
+INTERRUPTED_CODES = frozenset({129, 130, 138, 143})
+
+
 def _read_json(path: Path) -> dict[str, Any]:
     try:
         data = json.loads(path.read_text())
@@ -225,7 +230,11 @@ def _finish(run: Running, code: int, plan: Plan, stopped: bool) -> dict[str, Any
         status = "completed"
     elif code == 3:
         status = "unstable"
-    elif code == 130 or (stopped and code != 0):
+    elif (
+        code in INTERRUPTED_CODES
+        or summary.get("status") == "interrupted"
+        or (stopped and code != 0)
+    ):
         status = "interrupted"
     else:
         status = "failed"

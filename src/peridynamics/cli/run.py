@@ -74,7 +74,16 @@ def cmd_check(args: argparse.Namespace) -> int:
     except MemoryError as exc:
         return out_of_memory(exc)
     print(f"{args.deck}: valid ({deck.dim}-D, {n_points} points{extra})")
+    _notes(deck)
     return EXIT_OK
+
+
+def _notes(deck: Any) -> None:
+    """``note:`` lines for the changed defaults the deck relies on."""
+    from peridynamics.deck.changed_defaults import notices
+
+    for line in notices(deck):
+        err(f"note: {line}")
 
 
 def _resume_hint(args: argparse.Namespace, out: Path) -> str:
@@ -188,6 +197,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         if problem:
             return refuse(problem)
         if not quiet:
+            _notes(deck)
             _announce(deck, sim, out)
         elif sim.session is not None:
             sim.global_bonds()  # collective: every rank takes part
