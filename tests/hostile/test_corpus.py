@@ -26,10 +26,13 @@ a ``summary.json`` without NaN or infinity in its results.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
 import shutil
+import signal
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -137,6 +140,24 @@ def judge(case: dict[str, Any], rc: int, stderr: str, folder: Path) -> str | Non
 
 
 CASES = load_cases()
+#: a case that takes longer is a hang (``timeout`` in a case changes it)
+HANG_S = 120.0
+
+
+@contextlib.contextmanager
+def _time_limit(seconds: float, name: str) -> Iterator[None]:
+    """Fail a case that runs longer than ``seconds`` (SIGALRM, main thread)."""
+
+    def hang(signum: int, frame: Any) -> None:
+        raise TimeoutError(f"{name}: a hang (no end after {seconds:.0f} s)")
+
+    previous = signal.signal(signal.SIGALRM, hang)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
 
 
 @pytest.mark.parametrize(
@@ -149,24 +170,31 @@ def test_hostile_case(case: dict[str, Any], tmp_path: Path) -> None:
     assert case["expect"]["outcome"] in OUTCOMES, case["id"]
     assert case.get("origin") in {"issue", "own"}, case["id"]
     prepare(case, tmp_path)
-    proc = cli(*argv_of(case), cwd=tmp_path, env={"COLUMNS": "200"})
+    with _time_limit(float(case.get("timeout", HANG_S)), case["id"]):
+        proc = cli(*argv_of(case), cwd=tmp_path, env={"COLUMNS": "200"})
     problem = judge(case, proc.returncode, proc.stderr, tmp_path)
     assert problem is None, f"{case['id']} ({case['_file']}): {problem}"
 
 
 def corpus_report(cases: list[dict[str, Any]], root: Path) -> dict[str, int]:
     """Outcome counts of the corpus (``python -m tests.hostile.test_corpus``): clean
-    error, warning, correct run, traceback, silent acceptance (exit 0 where an error
-    or a warning was expected), other mismatch."""
-    counts = dict.fromkeys(("error", "warning", "run", "traceback", "silent", "mismatch"), 0)
+    error, warning, correct run, traceback, hang, silent acceptance (exit 0 where an
+    error or a warning was expected), other mismatch."""
+    kinds = ("error", "warning", "run", "traceback", "hang", "silent", "mismatch")
+    counts = dict.fromkeys(kinds, 0)
     for case in cases:
         folder = root / case["id"]
         folder.mkdir(parents=True)
         try:
             prepare(case, folder)
-            proc = cli(*argv_of(case), cwd=folder)
+            with _time_limit(float(case.get("timeout", HANG_S)), case["id"]):
+                proc = cli(*argv_of(case), cwd=folder)
             rc, stderr = proc.returncode, proc.stderr
-        except Exception as exc:  # noqa: BLE001 - an escaped exception is a traceback
+        except TimeoutError as exc:
+            counts["hang"] += 1
+            print(exc)
+            continue
+        except BaseException as exc:  # noqa: BLE001 - an escaped exception is a traceback
             rc, stderr = 1, f"Traceback: {exc!r}"
         problem = judge(case, rc, stderr, folder)
         want = case["expect"]["outcome"]

@@ -7,7 +7,8 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from peridynamics.cli.common import deck_args, large_arg
+from peridynamics.app.exit_codes import EXIT_INVALID
+from peridynamics.cli.common import deck_args, large_arg, out_folder_problem
 
 
 def cmd_ensemble(args: argparse.Namespace) -> int:
@@ -17,6 +18,8 @@ def cmd_ensemble(args: argparse.Namespace) -> int:
     (``peridynamics.app.ensemble``)."""
     from peridynamics.app.ensemble import cmd_ensemble as run_ensemble
 
+    if out_folder_problem(args.out, "--out"):
+        return EXIT_INVALID
     return run_ensemble(args)
 
 
@@ -24,6 +27,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     """Run a deck over a grid or a list of parameter values (``peridynamics.app.sweep``)."""
     from peridynamics.app.sweep import cmd_sweep as run_sweep
 
+    if out_folder_problem(args.out, "--out"):
+        return EXIT_INVALID
     return run_sweep(args)
 
 
