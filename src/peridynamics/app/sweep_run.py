@@ -136,8 +136,9 @@ def _launch(case: Case, plan: Plan, fresh: bool = False) -> Running:
     )
     # first the old summary (a stale "completed" must never sit beside the new fingerprint)
     (folder / "summary.json").unlink(missing_ok=True)
-    if not resume:  # a new run: an old checkpoint is stale
-        (folder / "checkpoint.npz").unlink(missing_ok=True)
+    if not resume:  # a new run: old checkpoints are stale
+        for name in ("checkpoint.npz", "checkpoint.prev.npz"):
+            (folder / name).unlink(missing_ok=True)
     write_json(folder / "case.json", {**_case_info(case, plan), "status": "running"})
     cmd = [sys.executable, "-m", "peridynamics", "run", str(plan.deck)]
     cmd += ["--resume" if resume else "--out", str(folder), "--quiet"]
