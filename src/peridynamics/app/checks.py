@@ -131,13 +131,18 @@ def built_problem(sim: Any, allow_large: bool) -> str | None:
     """Checks of a built model: a finite, non-zero time step; a sensible amount of
     work (steps x bonds)."""
     solver = sim.solver
-    for attr, key in (("stable_time_step", "material.youngs_modulus"), ("dt", "solver.time_step")):
+    step = getattr(solver, "stable_step", None)  # damping or viscosity that lowers it
+    lowered = step.limited_by() if step is not None else None
+    for attr, key in (
+        ("stable_time_step", lowered or "material.youngs_modulus"),
+        ("dt", "solver.time_step"),
+    ):
         value = getattr(solver, attr, None)
         if value is not None and not (math.isfinite(value) and value > 0):
             return (
                 f"{key}: the {attr.replace('_', ' ')} is {value:.3g} s, not a finite time > 0; "
-                "check material.youngs_modulus (Pa), material.density (kg/m^3) and the "
-                "discretisation (m)"
+                "check material.youngs_modulus (Pa), material.density (kg/m^3), the "
+                "discretisation (m), solver.damping (1/s) and material.viscosity"
             )
     from peridynamics.solvers.explicit import ExplicitSolver
 

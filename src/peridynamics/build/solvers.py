@@ -55,11 +55,11 @@ def _hybrid_solver(
     limit = min(first.stable_time_step(), second.stable_time_step())
     dt = s.time_step if s.time_step is not None else s.safety_factor * limit
     common = _solver_options(s, kin, init, time_step=dt)
-    return HybridSolver(
-        ExplicitSolver(first, **common),
-        ExplicitSolver(second, **common),
-        SwitchAtStretch(h.switch_fraction),
-    )
+    solvers = ExplicitSolver(first, **common), ExplicitSolver(second, **common)
+    if s.time_step is None:  # automatic: an instability message must not blame the step
+        for solver in solvers:
+            solver.time_step = None
+    return HybridSolver(*solvers, SwitchAtStretch(h.switch_fraction))
 
 
 def build_explicit(

@@ -35,7 +35,7 @@ class Solver(Strict):
     blowup_factor: PosFloat = 1.0
     max_stretch: PosFloat = 1.0
     check_every: Annotated[int, Field(gt=0), Num] = 10
-    damping: NonNegFloat = 0.0  # mass-proportional damping coefficient (1/s)
+    damping: NonNegFloat = 0.0  # mass-proportional damping c_d (1/s); lowers the stable step
     precision: Literal["float64", "float32"] = "float64"
     backend: Literal["numba", "warp"] = "numba"
     device: Literal["auto", "cuda", "cpu"] = "auto"

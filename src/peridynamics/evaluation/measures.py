@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from peridynamics.evaluation.stability import StableStep
 from peridynamics.kernels import bond_based
 from peridynamics.kernels.viscous import add_viscous_force
 from peridynamics.state import State
@@ -245,26 +246,30 @@ class Measures:
         )
         return c0 * self.bonds.bond_volume
 
-    def stable_time_step(self) -> float:
-        """Largest stable explicit step, min over points of Silling & Askari's bound (s).
-
-        With linear viscosity the bound shrinks as for a damped oscillator integrated
-        explicitly: dt = dt_el (sqrt(1 + xi^2) - xi), where xi = gamma / dt_el is the
-        damping ratio of the fastest mode (omega = 2 / dt_el) and gamma (s) the largest
-        ratio of viscous to elastic bond coefficient (the 1-D rate constant of PD wave
-        dispersion (n.d.), eq. 39). The quadratic term depends on the amplitude and is not included.
+    def stable_step(self) -> StableStep:
+        """The stable explicit step and its parts
+        (:class:`~peridynamics.evaluation.stability.StableStep`): the elastic bound
+        dt_el, min over points and dof groups of Silling & Askari's sqrt(2 rho / K_i)
+        (s); the mass damping c_d (1/s); and gamma (s), the largest ratio of viscous to
+        elastic bond coefficient (the 1-D rate constant of PD wave dispersion (n.d.),
+        eq. 39). The quadratic viscosity depends on the amplitude and is not included.
         """
         dt = np.inf
         for group in range(len(self.force_model.dofs())):
             bound = self.force_model.dof_stiffness_bound(group)
             with np.errstate(divide="ignore"):
                 per_point = np.where(bound > 0, np.sqrt(2.0 * self.inertia(group) / bound), np.inf)
-            dt = min(dt, self.comm.min(float(per_point.min())))
+            dt = min(dt, self.comm.min(float(per_point.min()) if per_point.size else np.inf))
+        gamma = 0.0
         if self._viscous is not None and self._viscous[0] > 0:
             k = self._elastic_bond_stiffness()
             ok = k > 0
             ratio = self.bonds.bond_volume[ok] / k[ok]
-            gamma = float(self._viscous[0] * ratio.max())
-            xi = gamma / dt
-            dt *= np.sqrt(1.0 + xi * xi) - xi
-        return dt
+            gamma = self.comm.max(float(self._viscous[0] * ratio.max()) if ratio.size else 0.0)
+        return StableStep(float(dt), float(getattr(self, "damping", 0.0)), gamma)
+
+    def stable_time_step(self) -> float:
+        """Largest stable explicit step (s): Silling & Askari's bound lowered by the mass
+        damping and the linear viscosity, dt = dt_el / (sqrt(1 + xi^2) + xi) with xi the
+        damping ratio of the fastest mode (:mod:`peridynamics.evaluation.stability`)."""
+        return self.stable_step().value

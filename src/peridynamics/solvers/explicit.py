@@ -4,7 +4,10 @@
 Both integrators share one shape: ``init() -> State``, ``step(state) -> State``, the
 generator ``irun(state, n_steps)`` and ``run(...)``. The stable step is the bound of
 Silling & Askari (2005), ``dt_i = sqrt(2 rho / sum_k stiffness_k / |xi_k|)`` minimised
-over points; a user step above it is refused unless ``allow_unstable=True``.
+over points, lowered by the mass damping and the linear viscosity
+(:mod:`peridynamics.evaluation.stability`); a user step above it is refused unless
+``allow_unstable=True``. Implausible settings are warned about, naming their key
+(:mod:`peridynamics.solvers.plausibility`).
 """
 
 from __future__ import annotations
@@ -16,14 +19,17 @@ from typing import Any, Literal
 import numpy as np
 
 from peridynamics.evaluation import Evaluator
+from peridynamics.evaluation.stability import StableStep
 from peridynamics.kernels import bond_based, integrators
 from peridynamics.loading.conditions import (
+    COMPONENTS,
     Fixed,
     InitialVelocity,
     PrescribedDisplacement,
     PrescribedVelocity,
 )
 from peridynamics.solvers.base import StepResult
+from peridynamics.solvers.plausibility import unstable_advice, warn_implausible
 from peridynamics.state import State
 
 Integrator = Literal["velocity_verlet", "central_difference"]
@@ -104,7 +110,11 @@ class ExplicitSolver:
             raise ValueError(f"unknown integrator {self.integrator!r}; use one of {INTEGRATORS}")
         if not 0 < self.safety_factor <= 1:
             raise ValueError("safety_factor must be in (0, 1]")
-        self.stable_time_step = self.model.stable_time_step()
+        step = getattr(self.model, "stable_step", None)
+        self.stable_step: StableStep = (
+            step() if step is not None else StableStep(self.model.stable_time_step())
+        )
+        self.stable_time_step = self.stable_step.value
         if self.time_step is None:
             self.dt = self.safety_factor * self.stable_time_step
         else:
@@ -113,14 +123,12 @@ class ExplicitSolver:
             if self.time_step > self.stable_time_step and not self.allow_unstable:
                 raise UnstableTimeStep(
                     f"solver.time_step = {self.time_step:.6g} s is above the stable limit "
-                    f"{self.stable_time_step:.6g} s (Silling & Askari 2005); use a smaller "
-                    "time_step, leave it out to get "
+                    f"{self.stable_time_step:.6g} s (Silling & Askari 2005{self._lowered()}); "
+                    "use a smaller time_step, leave it out to get "
                     f"{self.safety_factor} x the limit, or set allow_unstable: true"
                 )
             self.dt = float(self.time_step)
-        # per-component inverse mass of each degree-of-freedom group (kg/m^3)^-1
-        # (n, 1): every component of a point has the same mass, read once per point
-        self._inv_mass = np.ascontiguousarray((1.0 / self.model.density)[:, None])
+        self._inv_mass = self._inverse_mass()
         # further dof groups (micropolar rotations): value, rate, force, body, 1/inertia
         self._extra = [
             (g, np.ascontiguousarray((1.0 / self.model.inertia(k))[:, None]))
@@ -139,6 +147,35 @@ class ExplicitSolver:
         self.n_steps: int | None = (
             self.steps if self.end_time is None else self.steps_for(self.end_time)
         )
+        warn_implausible(self)
+
+    def _lowered(self) -> str:
+        """``", lowered by KEY ..."`` when damping or viscosity lowers the stable step."""
+        key = self.stable_step.limited_by()
+        if key is None:
+            return ""
+        return (
+            f", lowered from {self.stable_step.elastic:.6g} s by {key}: damping ratio "
+            f"{self.stable_step.xi:.3g} of the fastest mode"
+        )
+
+    def _inverse_mass(self) -> np.ndarray:
+        """1 / rho of each point (kg/m^3)^-1, shape (n, 1) (every component of a point
+        has the same mass, read once per point); (n, dim) with 0 on the components a
+        velocity condition prescribes, so that neither the forces nor the damping move
+        them: u advances by dt v_prescribed exactly, whatever the damping."""
+        inv = (1.0 / self.model.density)[:, None]
+        held = [c for c in self.constraints if isinstance(c, PrescribedVelocity)]
+        if not held:
+            return np.ascontiguousarray(inv)
+        d = self.model.dim
+        full = np.repeat(inv, d, axis=1)
+        for c in held:
+            for name in c.values:
+                comp = COMPONENTS.get(name, d)
+                if comp < d:
+                    full[c.nodes, comp] = 0.0
+        return np.ascontiguousarray(full)
 
     # -- life cycle --------------------------------------------------------------
     def init(self) -> State:
@@ -174,9 +211,11 @@ class ExplicitSolver:
         return self.n_steps or 0
 
     def describe(self) -> str:
-        """dt, stable limit and number of steps."""
+        """dt, stable limit (and the key that lowered it) and number of steps."""
+        key = self.stable_step.limited_by()
+        by = f", lowered by {key}" if key is not None else ""
         return (
-            f"dt = {self.dt:.4g} s (stable limit {self.stable_time_step:.4g} s), "
+            f"dt = {self.dt:.4g} s (stable limit {self.stable_time_step:.4g} s{by}), "
             f"{self.total_steps()} steps"
         )
 
@@ -307,8 +346,7 @@ class ExplicitSolver:
                 )
             raise SimulationUnstable(
                 f"the run went unstable at step {s.step}, t = {s.t:.6g} s: point {k} at "
-                f"{coords} has {what}. Reduce the time step (now {self.dt:.3g} s, stable "
-                f"limit {self.stable_time_step:.3g} s) or check the loads"
+                f"{coords} has {what}. {unstable_advice(self)}"
                 + (
                     "; the quadratic viscosity is not in that limit (it grows with the "
                     "strain rate): lower material.viscosity.quadratic."
