@@ -218,3 +218,25 @@ def test_hybrid_with_the_automatic_step_does_not_blame_the_step() -> None:
     assert auto.dt == pytest.approx(0.8 * auto.stable_time_step, rel=1e-12)
     given = Simulation.from_deck(load_deck(path)).solver
     assert given.second.time_step == given.dt == 2e-6
+
+
+@pytest.mark.parametrize("overrides", [["solver.method=fdm"], ["solver.hybrid={first: fdm}"]])
+def test_finite_differences_and_hybrids_are_damped_too(overrides: list[str]) -> None:
+    """``solver.damping`` reaches the finite-difference model (it was dropped before)."""
+    from peridynamics.app.run import Simulation
+    from peridynamics.deck import load_deck
+    from tests.helpers import EXAMPLES
+
+    path = EXAMPLES / "bar_wave_1d" / "deck.yaml"
+    sets = ["solver.end_time=null", "solver.steps=200", *overrides]
+    peaks = []
+    for damping in (0.0, 1.0e4):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            sim = Simulation.from_deck(load_deck(path, [*sets, f"solver.damping={damping}"]))
+        solver = sim.solver
+        state = solver.init()
+        while not solver.done(state):
+            solver.step(state)
+        peaks.append(float(np.abs(state.u).max()))
+    assert peaks[1] < 0.9 * peaks[0]

@@ -73,7 +73,7 @@ class SimulationSetup:
             m = deck.material
             assert isinstance(m, dk.Material)
             material = MATERIALS[m.model](m.youngs_modulus, m.density, m.micromodulus_profile)
-            model: Evaluator = FDMModel1D(cloud, material, body)
+            model: Evaluator = FDMModel1D(cloud, material, body, damping=s.damping)
         elif has_bodies(deck):
             layout = body_layout(deck, cloud)
             contact = build_contact(deck, cloud, bonds, build_material(deck.material))

@@ -46,12 +46,12 @@ def _hybrid_solver(
     material = second.material
     first: Evaluator
     if h.first == "fdm":
-        first = FDMModel1D(cloud, material, body)
+        first = FDMModel1D(cloud, material, body, damping=s.damping)
     else:
         bonds = build_bonds(
             cloud, h.first_horizon_factor * cloud.spacing, deck.discretisation.partial_volume
         )
-        first = Evaluator(cloud, bonds, material, NO_DAMAGE, body)
+        first = Evaluator(cloud, bonds, material, NO_DAMAGE, body, damping=s.damping)
     limit = min(first.stable_time_step(), second.stable_time_step())
     dt = s.time_step if s.time_step is not None else s.safety_factor * limit
     common = _solver_options(s, kin, init, time_step=dt)

@@ -55,8 +55,14 @@ class FDMModel1D(Evaluator):
     """Second-order central finite differences on a sorted uniform 1-D grid."""
 
     def __init__(
-        self, cloud: PointCloud, material: BondBasedMaterial, body_forces: Sequence[BodyForce] = ()
+        self,
+        cloud: PointCloud,
+        material: BondBasedMaterial,
+        body_forces: Sequence[BodyForce] = (),
+        damping: float = 0.0,
     ) -> None:
+        """``damping``: mass-proportional damping c_d (1/s), as
+        :attr:`Evaluator.damping` (``solver.damping``)."""
         if cloud.dim != 1:
             raise ValueError("the finite-difference solver is 1-D")
         x = cloud.x[:, 0]
@@ -64,7 +70,7 @@ class FDMModel1D(Evaluator):
         if np.any(dx <= 0) or not np.allclose(dx, cloud.spacing, rtol=1e-9, atol=0):
             raise ValueError("the finite-difference solver needs sorted nodes at a uniform spacing")
         bonds = build_bonds(cloud, cloud.spacing, "truncated")
-        super().__init__(cloud, bonds, material, NO_DAMAGE, body_forces)
+        super().__init__(cloud, bonds, material, NO_DAMAGE, body_forces, damping=damping)
         self.force_model = FDMForceModel(cloud, self.bonds, material)
 
     def section_stress(self, u: NDArray, intact: NDArray[np.uint8], position: float) -> float:
