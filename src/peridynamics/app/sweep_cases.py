@@ -13,6 +13,7 @@ import itertools
 import json
 import math
 import re
+from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -77,13 +78,14 @@ class Case:
 def parse_value(text: str, where: str) -> Any:
     """Parse a value as ``--set`` does (YAML; ``1e-3`` and ``0.8e6`` are floats)."""
     from peridynamics.deck import yaml_load
+    from peridynamics.deck.yaml_source import short
 
     try:
         return yaml_load(text)
     except Exception as exc:  # noqa: BLE001 - any YAML error: name the value
         problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
         raise SweepError(
-            f"{where}: value {text!r} is not valid YAML ({problem}); quote it in the shell "
+            f"{where}: value {short(text)} is not valid YAML ({problem}); quote it in the shell "
             "and close brackets, e.g. --grid 'boundary_conditions.0.value=[1e6],[2e6]'"
         ) from None
 
@@ -179,13 +181,16 @@ def read_cases(path: str) -> list[list[Override]]:
     per case; an empty cell leaves that key as the deck has it.
     """
     from peridynamics.deck import yaml_load
+    from peridynamics.deck.yaml_source import TextError, read_text
 
     p = Path(path)
     opt = f"--cases {path}"
     try:
-        text = p.read_text()
+        text = read_text(p, "the file")
     except OSError as exc:
         raise SweepError(f"{opt}: cannot read the file ({exc.strerror})") from None
+    except TextError as exc:
+        raise SweepError(f"{opt}: {exc}") from None
     rows: list[list[Override]] = []
     if p.suffix.lower() == ".csv":
         reader = csv.reader(text.splitlines())
@@ -255,16 +260,17 @@ def folder_names(cases: list[list[Override]]) -> list[str]:
         parts = key.split(".")
         return ".".join(parts[-2:]) if parts[-1].isdigit() and len(parts) > 1 else parts[-1]
 
-    tails = [tail(k) for k in keys]
-    short = {k: (t if tails.count(t) == 1 else k) for k, t in zip(keys, tails, strict=True)}
+    tails = Counter(tail(k) for k in keys)
+    short = {k: (tail(k) if tails[tail(k)] == 1 else k) for k in keys}
     names, full = [], []
     for case in cases:
         parts = [f"{short[o.key]}={_short(o.value)}" for o in sorted(case, key=lambda o: o.key)]
         name = re.sub(r"_+", "_", re.sub(r"[^A-Za-z0-9.,+=\-]", "_", "case_" + "_".join(parts)))
         full.append(json.dumps(sorted((o.key, yaml_text(o.value)) for o in case)))
         names.append(name.rstrip("_."))
+    uses = Counter(names)
     for n, name in enumerate(names):
-        if len(name) > MAX_NAME or names.count(name) > 1:
+        if len(name) > MAX_NAME or uses[name] > 1:
             digest = hashlib.sha1(full[n].encode()).hexdigest()[:8]
             names[n] = f"{name[:MAX_NAME].rstrip('_.')}_{digest}"
     return names
@@ -323,18 +329,44 @@ def fingerprint(deck: Any) -> str:
     return h.hexdigest()
 
 
+def _deck_loader(deck_path: str) -> Any:
+    """``load(overrides) -> Deck``: the deck file read and parsed once, each case's
+    overrides applied to a copy (a sweep of many cases validates in seconds)."""
+    import copy
+
+    from peridynamics.deck import DeckError, apply_overrides, load_deck, parse_deck, yaml_load
+
+    path = Path(deck_path)
+    try:
+        raw = yaml_load(path.read_text(encoding="utf-8"))
+    except Exception:  # noqa: BLE001 - load_deck reports it, case by case
+        return lambda overrides: load_deck(deck_path, overrides)
+    if not isinstance(raw, dict):
+        return lambda overrides: load_deck(deck_path, overrides)
+
+    def load(overrides: list[str]) -> Any:
+        data = apply_overrides(copy.deepcopy(raw), overrides)
+        try:
+            return parse_deck(data, base_dir=path.parent)
+        except RecursionError:
+            raise DeckError([("", "the deck is nested too deeply")]) from None
+
+    return load
+
+
 def validate(deck_path: str, sets: list[str], cases: list[Case], allow_large: bool) -> str | None:
     """Validate every case (deck + ``--set`` + its overrides) and its size, fill in each
     case's fingerprint, cost (estimated bond updates) and deck name. Returns ``None`` or
     the message that names the invalid cases and their keys (nothing has run)."""
     from peridynamics.app.checks import size_problem, work_problem
     from peridynamics.build.estimates import estimate_size, estimate_steps
-    from peridynamics.deck import DeckError, load_deck
+    from peridynamics.deck import DeckError
 
     bad: dict[str, list[Case]] = {}
+    load = _deck_loader(deck_path)
     for case in cases:
         try:
-            deck = load_deck(deck_path, [*sets, *case.set_args])
+            deck = load([*sets, *case.set_args])
             problem = size_problem(deck, allow_large)
             est = estimate_size(deck)
             steps = estimate_steps(deck)

@@ -27,6 +27,12 @@ from peridynamics.deck.types import Errors, Finite, NonNegFloat, PosFloat, Stric
 Name = Annotated[str, Field(min_length=1, max_length=60, pattern=r"^[A-Za-z][A-Za-z0-9_]*$")]
 
 
+def _length2(vec: list[float]) -> float:
+    """Squared length of a vector (0 for the zero vector, or one so short that its
+    length underflows: a direction divided by its length)."""
+    return sum(float(c) * float(c) for c in vec)
+
+
 class BodySpec(Strict):
     """A further deformable body: ``region`` (carved out of the main geometry) or
     ``geometry`` (new points); ``material`` and ``damage`` default to the deck's."""
@@ -189,12 +195,12 @@ class RigidBodySpec(Strict):
                 raise ValueError("[shape] a plane has no finite mass: it cannot be free")
         elif self.angular_velocity is not None:
             raise ValueError("[angular_velocity] only a free rigid body rotates")
-        if self.touch is True and (self.velocity is None or not any(self.velocity)):
+        if self.touch is True and (self.velocity is None or not _length2(self.velocity) > 0):
             raise ValueError(
                 "[touch] true moves the body along its velocity: give a velocity, or give "
                 "touch a direction (a vector, e.g. [0, 1] for a fixed support below)"
             )
-        if isinstance(self.touch, list) and not any(self.touch):
+        if isinstance(self.touch, list) and not _length2(self.touch) > 0:
             raise ValueError("[touch] the direction must not be zero")
         if self.touch and self.shape.points is not None:
             raise ValueError("[touch] works with analytic shapes (plane, box, sphere, cylinder)")
@@ -249,7 +255,7 @@ def bodies_errors(deck: Any) -> Errors:
             continue
         for key in ("point", "normal", "min", "max", "center"):
             check_len(errors, f"{path}.shape.{kind}.{key}", getattr(spec, key, None), dim)
-        if kind == "plane" and not any(spec.normal):
+        if kind == "plane" and not _length2(spec.normal) > 0:
             errors.append((f"{path}.shape.plane.normal", "the normal must not be zero"))
         if kind == "cylinder" and dim == 3 and spec.length is None:
             errors.append((f"{path}.shape.cylinder.length", "a 3-D cylinder needs its length (m)"))

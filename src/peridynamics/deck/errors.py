@@ -72,7 +72,7 @@ _ALLOWED_TYPES = {
     "geometry": "bar, rectangle, box, cylinder, mesh, disc",
     "boundary_conditions": "displacement, velocity, fixed, initial_velocity, body_force, "
     "traction, pressure",
-    "time_function": "constant, ramp, table, triangular_pulse",
+    "time_function": "constant, ramp, table, triangular_pulse, sine_pulse, square_pulse, blast",
     "material": ", ".join(MATERIAL_SCHEMAS),
     "solver": ", ".join(SOLVER_SCHEMAS),
 }

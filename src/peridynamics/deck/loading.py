@@ -13,6 +13,7 @@ from pydantic import Field, PlainValidator, model_validator
 from peridynamics.deck.regions import check_len, check_nonzero
 from peridynamics.deck.time_functions import BlastTF, ConstantTF, TimeFunctionSpec
 from peridynamics.deck.types import Component, Errors, Finite, PosFloat, Strict
+from peridynamics.io.options import MAX_MAGNITUDE
 
 
 class _OnSet(Strict):
@@ -51,6 +52,11 @@ def _field_component(v: Any) -> float | str:
     if isinstance(v, int | float):
         if not math.isfinite(v):
             raise ValueError("Input should be a finite number")
+        if abs(v) > MAX_MAGNITUDE:
+            raise ValueError(
+                f"a number between -{MAX_MAGNITUDE:.0e} and {MAX_MAGNITUDE:.0e} is expected; "
+                "check the exponent and the units"
+            )
         return float(v)
     if isinstance(v, str):
         from peridynamics.loading.initial_fields import FieldExpression

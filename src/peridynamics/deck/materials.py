@@ -15,7 +15,12 @@ from typing import Annotated, Any, ClassVar, Literal
 from pydantic import Discriminator, Field, Tag, model_validator
 
 from peridynamics.deck.damage import bond_law_errors, sed_softening_errors
-from peridynamics.deck.types import Errors, NonNegFloat, Num, PosFloat, Strict, tag_of
+from peridynamics.deck.types import Errors, NonNegFloat, NotBool, Num, PosFloat, Strict, tag_of
+
+#: Young's modulus and density: finite and > 0, of any magnitude (not bounded by
+#: ``MAX_MAGNITUDE``): :func:`~peridynamics.deck.derived.derived_errors` names an absurd
+#: one by the wave speed sqrt(E / rho) it gives
+Property = Annotated[float, Field(gt=0, allow_inf_nan=False), NotBool]
 
 
 class Viscosity(Strict):
@@ -42,8 +47,8 @@ class Material(FamilySpec):
     """Bond-based PMB material (``model: pmb``, the default)."""
 
     model: Literal["pmb", "bond_based"] = "pmb"
-    youngs_modulus: PosFloat
-    density: PosFloat
+    youngs_modulus: Property
+    density: Property
     poisson_ratio: Annotated[float, Field(gt=-1.0, lt=0.5, allow_inf_nan=False), Num] | None = None
     micromodulus_profile: Literal["constant", "conical"] = "constant"
     micromodulus: PosFloat | None = None  # N/m^6: overrides the energy-equivalent c
@@ -87,8 +92,8 @@ class LPSMaterialSpec(FamilySpec):
     2007, 2-D forms of Le et al. 2014): any Poisson ratio in the admissible range."""
 
     model: Literal["lps"]
-    youngs_modulus: PosFloat
-    density: PosFloat
+    youngs_modulus: Property
+    density: Property
     poisson_ratio: Annotated[float, Field(gt=-1.0, lt=0.5, allow_inf_nan=False), Num] = 0.25
     influence: Literal["constant", "inverse"] = "constant"
     viscosity: Viscosity | None = None
@@ -108,8 +113,8 @@ class MicropolarMaterialSpec(FamilySpec):
     strain); ``rotational_stiffness_ratio`` = k_phi / k_t (1/12: beam lattice)."""
 
     model: Literal["micropolar"]
-    youngs_modulus: PosFloat
-    density: PosFloat
+    youngs_modulus: Property
+    density: Property
     poisson_ratio: Annotated[float, Field(gt=-1.0, le=1.0 / 3.0, allow_inf_nan=False), Num] = 0.25
     rotational_stiffness_ratio: NonNegFloat = 1.0 / 12.0
 
@@ -141,8 +146,8 @@ class CorrespondenceMaterialSpec(FamilySpec):
     dimensionless: Silling's G over the horizon volume, default 0.1) or ``none``."""
 
     model: Literal["correspondence"]
-    youngs_modulus: PosFloat
-    density: PosFloat
+    youngs_modulus: Property
+    density: Property
     poisson_ratio: Annotated[float, Field(gt=-1.0, lt=0.5, allow_inf_nan=False), Num] = 0.25
     stabilization: Literal["lbscmm", "silling2017", "none"] = "lbscmm"
     stabilization_g: PosFloat | None = None

@@ -64,8 +64,8 @@ def output_errors(deck: Any, sets: set[str]) -> Errors:
 
 
 def probe_errors(deck: Any, sets: set[str]) -> Errors:
-    """Checks of ``output.probes``: 1-D quantities, node sets, components of the
-    model's dimension, unique names."""
+    """Checks of ``output.probes``: 1-D quantities, rotations of a family with point
+    rotations, node sets, components of the model's dimension, unique names."""
     errors: Errors = []
     dim, probes = deck.dim, deck.output.probes
     if dim != 1:
@@ -73,6 +73,14 @@ def probe_errors(deck: Any, sets: set[str]) -> Errors:
             if probe.quantity == "section_stress":
                 errors.append((f"output.probes.{n}.quantity", "section_stress is 1-D"))
     for n, probe in enumerate(probes):
+        if probe.quantity in ("rotation", "moment") and not deck.material.point_rotations:
+            errors.append(
+                (
+                    f"output.probes.{n}.quantity",
+                    f"{probe.quantity} is a point rotation's: only material.model micropolar "
+                    "has point rotations",
+                )
+            )
         if probe.set not in sets and probe.quantity not in ("difference", "sum"):
             errors.append(
                 (f"output.probes.{n}.set", f"unknown node set {probe.set!r}; known: {sorted(sets)}")

@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import contextlib
 import io
-import re
 from pathlib import Path
 from typing import Any
 
@@ -19,6 +18,17 @@ from peridynamics.deck.errors import DeckError, validation_errors
 from peridynamics.deck.geometry import MeshGeometry
 from peridynamics.deck.loading import InitialVelocityBC
 from peridynamics.deck.schema import Deck
+from peridynamics.deck.yaml_source import (
+    MAX_DEPTH,
+    SURROGATE,
+    TextError,
+    ValueProblem,
+    cut,
+    read_text,
+    short,
+    where,
+    yaml_load,
+)
 
 
 def apply_overrides(data: dict[str, Any], overrides: list[str]) -> dict[str, Any]:
@@ -30,19 +40,19 @@ def apply_overrides(data: dict[str, Any], overrides: list[str]) -> dict[str, Any
         key = key.strip()
         if not key:
             raise DeckError([(item, "an override is key.path=value; the key path is empty")])
-        try:
-            value = yaml.load(raw, Loader=_UniqueKeyLoader)  # noqa: S506 - a SafeLoader
-        except yaml.YAMLError as exc:
-            problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+        if SURROGATE.search(item):
+            what = "key path" if SURROGATE.search(key) else "value"
             raise DeckError(
                 [
                     (
-                        key,
-                        f"--set value {raw!r} is not valid YAML ({problem}); quote the "
-                        "argument in the shell and close brackets: key=[1, 2]",
+                        ascii(key) if what == "key path" else key,
+                        f"the --set {what} holds bytes that are not UTF-8 text; type it in UTF-8",
                     )
                 ]
-            ) from None
+            )
+        if key.count(".") >= MAX_DEPTH:
+            raise DeckError([(cut(key.split(".")), f"more than {MAX_DEPTH} parts in a key path")])
+        value = _override_value(key, raw)
         node: Any = data
         parts = key.split(".")
         for n, part in enumerate(parts):
@@ -69,6 +79,26 @@ def apply_overrides(data: dict[str, Any], overrides: list[str]) -> dict[str, Any
                 else:
                     node = node.setdefault(part, {})
     return data
+
+
+def _override_value(key: str, raw: str) -> Any:
+    """The value of ``--set key=raw`` (YAML, read as a deck's values are)."""
+    try:
+        return yaml_load(raw)
+    except ValueProblem as exc:
+        path = f"{key}.{exc.path}" if exc.path else key
+        raise DeckError([(path, f"--set value: {exc.message}")]) from None
+    except yaml.YAMLError as exc:
+        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+        raise DeckError(
+            [
+                (
+                    key,
+                    f"--set value {short(raw)} is not valid YAML ({problem}); quote the "
+                    "argument in the shell and close brackets: key=[1, 2]",
+                )
+            ]
+        ) from None
 
 
 def parse_deck(data: Any, base_dir: Path | None = None) -> Deck:
@@ -137,58 +167,36 @@ def _resolve_field_files(deck: Deck, base_dir: Path) -> Deck:
     return deck.model_copy(update={"boundary_conditions": bcs})
 
 
-class _UniqueKeyLoader(yaml.SafeLoader):
-    """SafeLoader that refuses a key given twice in one mapping (YAML keeps the last)."""
-
-    def construct_mapping(self, node: yaml.MappingNode, deep: bool = False) -> dict:
-        seen: dict[Any, Any] = {}
-        for key_node, _ in node.value:
-            key = self.construct_object(key_node, deep=deep)  # type: ignore[no-untyped-call]
-            if key in seen:
-                raise yaml.constructor.ConstructorError(
-                    None,
-                    None,
-                    f"key {key!r} appears twice in one section "
-                    f"(line {seen[key] + 1} and line {key_node.start_mark.line + 1})",
-                    key_node.start_mark,
-                )
-            seen[key] = key_node.start_mark.line
-        return super().construct_mapping(node, deep=deep)
-
-
-# YAML 1.1 (PyYAML) reads a float only with a dot and a signed exponent (1.0e+6):
-# `1e6`, `1.0e6`, `6.02e23` or `.5e3` would be strings, and an integer key would refuse
-# `steps: 1e3`. Read every number in scientific notation as a float, as YAML 1.2 does.
-_UniqueKeyLoader.add_implicit_resolver(
-    "tag:yaml.org,2002:float",
-    re.compile(
-        r"""^(?:[-+]?[0-9][0-9_]*(?:\.[0-9_]*)?[eE][-+]?[0-9]+
-            |[-+]?\.[0-9][0-9_]*[eE][-+]?[0-9]+)$""",
-        re.X,
-    ),
-    list("-+0123456789."),
-)
-
-
-def yaml_load(text: str) -> Any:
-    """Parse YAML as decks are read: safe, a repeated key is an error, and numbers in
-    scientific notation (1e6, 1.0e6, -2.5E-3) are floats."""
-    return yaml.load(text, Loader=_UniqueKeyLoader)  # noqa: S506 - a SafeLoader
-
-
 def load_deck(path: str | Path, overrides: list[str] | None = None) -> Deck:
     """Read and validate a YAML deck file, applying ``key.path=value`` overrides."""
     path = Path(path)
     try:
-        text = path.read_text()
+        text = read_text(path, f"deck {str(path)!r}")
+        data = yaml_load(text)
     except OSError as exc:
         raise DeckError([("", f"cannot read deck {str(path)!r}: {exc.strerror}")]) from None
-    try:
-        data = yaml.load(text, Loader=_UniqueKeyLoader)  # noqa: S506 - a SafeLoader
+    except TextError as exc:
+        raise DeckError([("", str(exc))]) from None
+    except ValueProblem as exc:
+        raise DeckError([(exc.path, exc.message + where(exc.mark))]) from None
     except yaml.YAMLError as exc:
-        raise DeckError([("", f"not valid YAML: {exc}")]) from None
+        raise DeckError([("", f"not valid YAML: {_yaml_message(exc, text, path)}")]) from None
     if overrides:
         if not isinstance(data, dict):
             raise DeckError([("", "a deck is a YAML mapping")])
         data = apply_overrides(data, overrides)
     return parse_deck(data, base_dir=path.parent)
+
+
+def _yaml_message(exc: yaml.YAMLError, text: str, path: Path) -> str:
+    """PyYAML's message, with the file's name and a refused character's line."""
+    if isinstance(exc, yaml.reader.ReaderError) and isinstance(exc.character, int):
+        before = text[: exc.position]
+        line = before.count("\n") + 1
+        col = len(before) - (before.rfind("\n") + 1) + 1
+        return (
+            f"character U+{exc.character:04X} at line {line}, column {col} is not allowed "
+            "in YAML (a control character); delete it, or write it as an escape in a "
+            'double-quoted string ("\\x07")'
+        )
+    return str(exc).replace('"<unicode string>"', repr(str(path)))

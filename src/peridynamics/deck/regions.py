@@ -67,8 +67,11 @@ def cylinder_placed(data: Any, keep: str) -> Any:
         raise ValueError(f"[{drop}] give {keep} or {drop}, not both")
     point, axis = _numbers(data[drop]), _numbers(data.get("axis", AXES["z"]))
     length = data.get("length")
-    if point is None or axis is None or len(point) != len(axis) or not isinstance(
-        length, int | float
+    if (
+        point is None
+        or axis is None
+        or len(point) != len(axis)
+        or not isinstance(length, int | float)
     ):
         return data  # reported by the fields (or: a length is needed to place it)
     norm = math.sqrt(sum(c * c for c in axis)) or 1.0
@@ -156,9 +159,12 @@ def check_len(errors: Errors, path: str, vec: list | tuple | None, dim: int) -> 
 
 
 def check_nonzero(errors: Errors, path: str, vec: list | None) -> None:
-    """Append an error when ``vec`` (if given) is the zero vector."""
+    """Append an error when ``vec`` (if given) is the zero vector, or so short that its
+    length underflows to zero (it is divided by its length)."""
     if vec is not None and not any(vec):
         errors.append((path, "must be a non-zero vector"))
+    elif vec is not None and not sum(float(c) * float(c) for c in vec) > 0:
+        errors.append((path, "must be a non-zero vector (its length underflows to 0: scale it)"))
 
 
 def check_region(errors: Errors, path: str, r: RegionSpec, dim: int, sets: set[str]) -> None:

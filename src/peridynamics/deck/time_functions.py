@@ -3,11 +3,16 @@ motion (constant, ramp, table, triangular, sine and square pulses, blast)."""
 
 from __future__ import annotations
 
+import math
 from typing import Annotated, Literal
 
 from pydantic import Field, model_validator
 
 from peridynamics.deck.types import Finite, NonNegFloat, PosFloat, Strict
+
+#: a blast's scaled distance may lie this factor outside the fits' range (extrapolated,
+#: with a warning), no further: the polynomials diverge beyond
+BLAST_EXTRAPOLATION = 0.5
 
 
 # --------------------------------------------------------------------- time functions
@@ -87,6 +92,40 @@ class BlastTF(Strict):
     standoff_m: PosFloat
     shape: Literal["triangular", "friedlander"] = "triangular"
     delay: NonNegFloat = 0.0
+
+    @model_validator(mode="after")
+    def _scaled_distance(self) -> BlastTF:
+        import warnings
+
+        from peridynamics.loading.blast import BlastPulse
+        from peridynamics.loading.blast_parameters import FIT_RANGES
+
+        low = min(r[0] for r in FIT_RANGES.values())
+        high = max(r[1] for r in FIT_RANGES.values())
+        z = self.standoff_m / self.charge_kg ** (1.0 / 3.0)
+        check = "check charge_kg (kg of TNT) and standoff_m (m)"
+        if not BLAST_EXTRAPOLATION * low <= z <= high / BLAST_EXTRAPOLATION:
+            raise ValueError(
+                f"[standoff_m] the scaled distance Z = standoff_m / charge_kg^(1/3) = {z:.3g} "
+                f"m/kg^(1/3) is far outside the range of the Kingery-Bulmash fits ({low:g} to "
+                f"{high:g}; extrapolated to {BLAST_EXTRAPOLATION * low:.3g} to "
+                f"{high / BLAST_EXTRAPOLATION:.3g} at most); {check}"
+            )
+        try:
+            with warnings.catch_warnings():  # the run warns of an extrapolation once
+                warnings.simplefilter("ignore")
+                pulse = BlastPulse(self.charge_kg, self.standoff_m, self.shape, self.delay)
+            ok = math.isfinite(pulse.peak_Pa * pulse.duration_s) and pulse.duration_s > 0
+            why = f"peak {pulse.peak_Pa:.3g} Pa, duration {pulse.duration_s:.3g} s"
+        except (ValueError, ArithmeticError) as exc:
+            ok, why = False, str(exc)
+        if not ok:
+            other = "; or shape: triangular" if "triangular" not in why else ""
+            raise ValueError(
+                f"[standoff_m] no {self.shape} pulse at the scaled distance Z = {z:.3g} "
+                f"m/kg^(1/3) ({why}); {check}{other}"
+            )
+        return self
 
 
 TimeFunctionSpec = Annotated[

@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any, Literal
 
-from peridynamics.io.options import Finite, NonNegFloat, Num, PosFloat, Strict
+from peridynamics.io.options import Finite, NonNegFloat, NotBool, Num, PosFloat, Strict
 
 Component = Literal["x", "y", "z"]
 
@@ -35,6 +35,7 @@ __all__ = [
     "Errors",
     "Finite",
     "NonNegFloat",
+    "NotBool",
     "Num",
     "PosFloat",
     "Strict",

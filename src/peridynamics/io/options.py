@@ -9,9 +9,15 @@ with the deck's schemas (:mod:`peridynamics.deck.types`).
 
 from __future__ import annotations
 
+import math
 from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, PlainValidator, model_validator
+
+#: the largest magnitude of a finite number of the deck and the output options: the
+#: square of a length or the product of two values must not overflow (no physical
+#: input comes near it; a typo in an exponent does)
+MAX_MAGNITUDE = 1e100
 
 
 def _not_bool(v: Any) -> Any:
@@ -20,8 +26,21 @@ def _not_bool(v: Any) -> Any:
     return v
 
 
+def _number(v: Any) -> Any:
+    v = _not_bool(v)
+    if isinstance(v, int | float) and math.isfinite(v) and abs(v) > MAX_MAGNITUDE:
+        raise ValueError(
+            f"a number between -{MAX_MAGNITUDE:.0e} and {MAX_MAGNITUDE:.0e} is expected; "
+            "check the exponent and the units"
+        )
+    return v
+
+
 #: refuses true/false where a number is expected (YAML reads ``yes`` as a bool)
-Num = BeforeValidator(_not_bool)
+NotBool = BeforeValidator(_not_bool)
+#: refuses true/false where a number is expected, and a finite number beyond
+#: :data:`MAX_MAGNITUDE`
+Num = BeforeValidator(_number)
 PosFloat = Annotated[float, Field(gt=0, allow_inf_nan=False), Num]
 NonNegFloat = Annotated[float, Field(ge=0, allow_inf_nan=False), Num]
 Finite = Annotated[float, Field(allow_inf_nan=False), Num]
