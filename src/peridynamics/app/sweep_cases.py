@@ -334,22 +334,19 @@ def _deck_loader(deck_path: str) -> Any:
     overrides applied to a copy (a sweep of many cases validates in seconds)."""
     import copy
 
-    from peridynamics.deck import DeckError, apply_overrides, load_deck, parse_deck, yaml_load
+    from peridynamics.deck import apply_overrides, load_deck, parse_deck, yaml_load
+    from peridynamics.deck.yaml_source import read_text
 
     path = Path(deck_path)
     try:
-        raw = yaml_load(path.read_text(encoding="utf-8"))
+        raw = yaml_load(read_text(path, f"deck {str(path)!r}"))
     except Exception:  # noqa: BLE001 - load_deck reports it, case by case
         return lambda overrides: load_deck(deck_path, overrides)
     if not isinstance(raw, dict):
         return lambda overrides: load_deck(deck_path, overrides)
 
     def load(overrides: list[str]) -> Any:
-        data = apply_overrides(copy.deepcopy(raw), overrides)
-        try:
-            return parse_deck(data, base_dir=path.parent)
-        except RecursionError:
-            raise DeckError([("", "the deck is nested too deeply")]) from None
+        return parse_deck(apply_overrides(copy.deepcopy(raw), overrides), base_dir=path.parent)
 
     return load
 
