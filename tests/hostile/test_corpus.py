@@ -211,9 +211,58 @@ def corpus_report(cases: list[dict[str, Any]], root: Path) -> dict[str, int]:
     return counts
 
 
-if __name__ == "__main__":
+def isolated_report(cases: list[dict[str, Any]], memory_gib: float = 6.0) -> dict[str, int]:
+    """:func:`corpus_report` with every case in a process of its own (at most
+    ``memory_gib`` of memory and :data:`HANG_S` seconds): a case that kills its process
+    (out of memory, a crash) counts as a traceback, one that runs out of time as a hang.
+    For measuring code that may not survive the corpus (``python -m
+    tests.hostile.test_corpus --isolated``)."""
+    import subprocess
+    import sys
+
+    kinds = ("error", "warning", "run", "traceback", "hang", "silent", "mismatch")
+    counts = dict.fromkeys(kinds, 0)
+    limit = (
+        f"import resource; resource.setrlimit(resource.RLIMIT_AS, ({int(memory_gib * 2**30)},) * 2)"
+    )
+    for case in cases:
+        one = "from tests.hostile.test_corpus import main_one; main_one(sys.argv[1])"
+        code = f"{limit}; import sys; {one}"
+        try:
+            proc = subprocess.run(
+                [sys.executable, "-c", code, case["id"]],
+                capture_output=True,
+                text=True,
+                timeout=HANG_S + 60,
+            )
+            got = proc.stdout.strip().splitlines()
+            kind = got[-1] if got and got[-1] in kinds else "traceback"
+        except subprocess.TimeoutExpired:
+            kind = "hang"
+        counts[kind] += 1
+        if kind not in ("error", "warning", "run") or (got and len(got) > 1):
+            print(f"{case['id']}: {kind}", file=sys.stderr)
+    return counts
+
+
+def main_one(case_id: str) -> None:
+    """Run one case (by id) and print its outcome kind on the last line."""
     import tempfile
 
+    case = next(c for c in CASES if c["id"] == case_id)
     with tempfile.TemporaryDirectory() as tmp:
-        print(json.dumps(corpus_report(CASES, Path(tmp)), indent=1))
+        counts = corpus_report([case], Path(tmp))
+    print(next(k for k, v in counts.items() if v))
+    os._exit(0)
+
+
+if __name__ == "__main__":
+    import sys
+    import tempfile
+
+    if "--isolated" in sys.argv:
+        print(json.dumps(isolated_report(CASES), indent=1))
+    else:
+        with tempfile.TemporaryDirectory() as tmp:
+            print(json.dumps(corpus_report(CASES, Path(tmp)), indent=1))
     os._exit(0)
