@@ -45,7 +45,7 @@ suppress_warnings = ["myst.header"]
 # targets outside this package (no intersphinx: the build works offline), private
 # helpers and the views of dict methods that autodoc inherits
 nitpick_ignore_regex = [
-    (r"py:.*", r"(abc|ast|pydantic|warp|numpy|scipy|enum|typing|collections)(\..*)?"),
+    (r"py:.*", r"(abc|ast|pydantic|warp|numpy|scipy|enum|typing|collections|yaml)(\..*)?"),
     (r"py:.*", r".*\._[A-Za-z_]\w*"),
     (r"py:class", r"(a set-like object|an object) providing a view on D's .*"),
 ]

@@ -1,6 +1,6 @@
 """Defaults that changed: a deck that leaves such a key out gets other results than it
 did before the change, so the run says so, naming the key (``note: ...`` on stderr and
-``notices`` in ``summary.json``). One line per change in :data:`CHANGED_DEFAULTS`; the
+``notices`` in ``summary.json``). One line per change in ``CHANGED_DEFAULTS``; the
 changelog tells the whole story."""
 
 from __future__ import annotations

@@ -232,7 +232,7 @@ class DeckLoader(yaml.SafeLoader):
         return node
 
     def compose_document(self) -> Any:
-        """The document's root node, measured (:func:`_measure`)."""
+        """The document's root node, measured (``_measure``)."""
         node = super().compose_document()  # type: ignore[no-untyped-call]
         if node is not None:
             _measure(node)
