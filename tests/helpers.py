@@ -178,3 +178,29 @@ def popen(*args: str) -> subprocess.Popen:
         stderr=subprocess.PIPE,
         env=subprocess_env(),
     )
+
+
+def same_final_fields(a: Path, b: Path, keys: tuple[str, ...]) -> None:
+    """The arrays ``keys`` of ``final_state.npz`` in run folders ``a`` and ``b`` are
+    equal bit for bit."""
+    import numpy as np
+
+    fa, fb = np.load(a / "final_state.npz"), np.load(b / "final_state.npz")
+    for key in keys:
+        assert np.array_equal(fa[key], fb[key]), key  # NaN is not equal to NaN
+
+
+def sigint_at(sim: object, step: int) -> None:
+    """Make ``sim``'s solver deliver a real SIGINT to this process while it computes
+    ``step`` (mid-step: the run must still stop only after the step is complete)."""
+    import signal
+
+    solver = sim.solver  # type: ignore[attr-defined]
+    inner = solver.step
+
+    def step_and_interrupt(state):  # noqa: ANN001, ANN202
+        if state.step == step - 1:
+            signal.raise_signal(signal.SIGINT)
+        return inner(state)
+
+    solver.step = step_and_interrupt

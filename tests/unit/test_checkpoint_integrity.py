@@ -34,7 +34,7 @@ from peridynamics.io.checkpoint import (
     read_checkpoint,
     write_checkpoint,
 )
-from tests.helpers import EXAMPLES, cli, mpiexec
+from tests.helpers import EXAMPLES, cli, mpiexec, same_final_fields, sigint_at
 
 BAR = EXAMPLES / "bar_wave_1d" / "deck.yaml"
 # 60 steps of the 1-D bar (201 points), as QUICK_BAR of test_faults.py
@@ -52,14 +52,7 @@ def _interrupted_at(step: int, out: Path) -> None:
     """Run the quick bar with checkpoints every 20 steps and a Ctrl-C (a real SIGINT)
     while it computes ``step``: checkpoints of steps 40 (previous) and ``step`` (newest)."""
     sim = Simulation.from_deck(load_deck(BAR, QUICK_BAR))
-    inner = sim.solver.step
-
-    def step_and_interrupt(state):  # noqa: ANN001, ANN202
-        if state.step == step - 1:
-            signal.raise_signal(signal.SIGINT)
-        return inner(state)
-
-    sim.solver.step = step_and_interrupt  # type: ignore[method-assign]
+    sigint_at(sim, step)
     saved = signal.signal(signal.SIGINT, signal.default_int_handler)
     try:
         with pytest.raises(RunInterrupted):
@@ -94,9 +87,7 @@ def _resume(folder: Path):  # noqa: ANN202
 
 
 def _same_fields(ref: Path, got: Path) -> None:
-    a, b = np.load(ref / "final_state.npz"), np.load(got / "final_state.npz")
-    for key in ("u", "v", "damage"):
-        np.testing.assert_array_equal(b[key], a[key], err_msg=key)
+    same_final_fields(ref, got, ("u", "v", "damage"))
 
 
 def _fallback_line(folder: Path) -> str:

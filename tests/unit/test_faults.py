@@ -16,7 +16,6 @@ import time
 from pathlib import Path
 from types import SimpleNamespace
 
-import numpy as np
 import pytest
 import yaml
 
@@ -27,7 +26,7 @@ from peridynamics.build.estimates import estimate_size, estimate_steps
 from peridynamics.cli import main
 from peridynamics.deck import DeckError, load_deck, yaml_load
 from peridynamics.io.checkpoint import CHECKPOINT_NAME, read_checkpoint, read_checkpoint_meta
-from tests.helpers import EXAMPLES, subprocess_env
+from tests.helpers import EXAMPLES, same_final_fields, sigint_at, subprocess_env
 
 BAR = EXAMPLES / "bar_wave_1d" / "deck.yaml"
 PLATE = EXAMPLES / "crack_branching_2d" / "deck.yaml"
@@ -45,22 +44,7 @@ def _same_results(a: Path, b: Path) -> None:
     sa = json.loads((a / "summary.json").read_text())
     sb = json.loads((b / "summary.json").read_text())
     assert sa["results"] == sb["results"]
-    fa, fb = np.load(a / "final_state.npz"), np.load(b / "final_state.npz")
-    for key in ("u", "v", "damage", "intact", "t", "step"):
-        assert np.array_equal(fa[key], fb[key]), key
-
-
-def _sigint_at(sim: Simulation, step: int) -> None:
-    """Make the solver deliver a real SIGINT to this process while it computes ``step``
-    (mid-step: the run must still stop only after the step is complete)."""
-    inner = sim.solver.step
-
-    def step_and_interrupt(state):  # noqa: ANN001, ANN202
-        if state.step == step - 1:
-            signal.raise_signal(signal.SIGINT)
-        return inner(state)
-
-    sim.solver.step = step_and_interrupt  # type: ignore[method-assign]
+    same_final_fields(a, b, ("u", "v", "damage", "intact", "t", "step"))
 
 
 # ------------------------------------------------------------------ 7. Ctrl-C
@@ -80,7 +64,7 @@ def test_ctrl_c_stops_after_the_step_and_resumes_bitwise(
     ref, cut = tmp_path / "ref", tmp_path / "cut"
     Simulation.from_deck(deck).run(ref, quiet=True)
     sim = Simulation.from_deck(deck)
-    _sigint_at(sim, 23)
+    sigint_at(sim, 23)
     with pytest.raises(RunInterrupted) as info:
         sim.run(cut, quiet=True, checkpoint_every=10)
     assert info.value.step == 23 and info.value.checkpoint == cut / CHECKPOINT_NAME
@@ -131,7 +115,7 @@ def test_ctrl_c_without_checkpoints_says_how_to_get_them(tmp_path, monkeypatch, 
     real = Simulation.run
 
     def run_interrupted(self, out, **kw):  # noqa: ANN001, ANN202, ANN003
-        _sigint_at(self, 5)
+        sigint_at(self, 5)
         return real(self, out, **kw)
 
     monkeypatch.setattr(Simulation, "run", run_interrupted)
