@@ -24,9 +24,9 @@ import signal
 import sys
 from typing import Any
 
-#: the signals that end a command as Ctrl-C does (SIGTERM: a batch system's time limit
-#: or ``kill``; SIGHUP: the terminal closed; SIGUSR1: Slurm's ``--signal`` warning)
-_STOP = ("SIGTERM", "SIGHUP", "SIGUSR1")
+# light modules (the standard library only): the stop signals, their names, exit codes
+from peridynamics.app.exit_codes import exit_for_signal
+from peridynamics.app.run_progress import STOP_SIGNALS, signal_name
 
 
 class StopSignal(KeyboardInterrupt):
@@ -34,7 +34,7 @@ class StopSignal(KeyboardInterrupt):
 
     def __init__(self, signum: int) -> None:
         self.signum = signum
-        super().__init__(signal.Signals(signum).name)
+        super().__init__(signal_name(signum))
 
 
 def _raise_stop(signum: int, frame: Any) -> None:
@@ -45,18 +45,18 @@ def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``peridynamics`` console script (exit code returned)."""
     from threading import current_thread, main_thread
 
-    if current_thread() is main_thread():
-        for name in _STOP:
-            if hasattr(signal, name):
-                signal.signal(getattr(signal, name), _raise_stop)
+    if current_thread() is main_thread():  # SIGINT keeps Python's KeyboardInterrupt
+        for sig in STOP_SIGNALS:
+            if sig != signal.SIGINT:
+                signal.signal(sig, _raise_stop)
     try:
         from peridynamics.cli.entry import run_command
     except KeyboardInterrupt as exc:
         signum = getattr(exc, "signum", int(signal.SIGINT))
         sys.stderr.write(
-            f"interrupted ({signal.Signals(signum).name}) during start-up; nothing was written\n"
+            f"interrupted ({signal_name(signum)}) during start-up; nothing was written\n"
         )
-        return 128 + signum
+        return exit_for_signal(signum)
     code = run_command(argv)
     if argv is None and code > 128 and "mpi4py.MPI" not in sys.modules:
         _exit_now(code)
