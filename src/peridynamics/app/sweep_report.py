@@ -13,11 +13,12 @@ from __future__ import annotations
 import csv
 import json
 import math
-import os
 import re
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
+
+from peridynamics.io.atomic import atomic_path
 
 #: every status a case can have in sweep.csv / sweep.json
 STATUSES = ("completed", "skipped-done", "failed", "unstable", "interrupted", "not-started")
@@ -107,21 +108,18 @@ def row_of(rec: dict[str, Any]) -> dict[str, Any]:
 def write_csv(path: Path, records: Sequence[dict[str, Any]], keys: Sequence[str]) -> None:
     """Write sweep.csv atomically (one row per case, in case order)."""
     cols = table_columns(records, keys)
-    tmp = path.with_name(path.name + ".tmp")
-    with tmp.open("w", newline="") as fh:
+    with atomic_path(path) as tmp, tmp.open("w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(cols)
         for rec in records:
             row = row_of(rec)
             w.writerow([_cell(row.get(c)) for c in cols])
-    os.replace(tmp, path)
 
 
 def write_json(path: Path, data: dict[str, Any]) -> None:
     """Write a JSON file atomically (temporary file, then rename)."""
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(json.dumps(data, indent=2, default=str) + "\n")
-    os.replace(tmp, path)
+    with atomic_path(path) as tmp:
+        tmp.write_text(json.dumps(data, indent=2, default=str) + "\n")
 
 
 def counts(records: Iterable[dict[str, Any]]) -> dict[str, int]:

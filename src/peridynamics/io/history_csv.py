@@ -10,12 +10,12 @@ appear (so the rows line up with ``time [s]``).
 from __future__ import annotations
 
 import csv
-import os
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from peridynamics.io.atomic import atomic_path
 from peridynamics.io.options import Output
 
 BASE = (
@@ -69,11 +69,9 @@ def history_columns(output: Output, records: dict[str, Any]) -> dict[str, list[f
 def write_history_csv(path: Path, output: Output, records: dict[str, Any]) -> str:
     """Write the table atomically; returns the file name."""
     cols = history_columns(output, records)
-    tmp = Path(str(path) + ".tmp")
-    with open(tmp, "w", newline="") as fh:
+    with atomic_path(path) as tmp, open(tmp, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(list(cols))
         rows = zip(*cols.values(), strict=True)
         w.writerows([[repr(v) for v in row] for row in rows])
-    os.replace(tmp, path)
     return path.name

@@ -23,7 +23,6 @@ https://docs.vtk.org/en/latest/vtk_file_formats/vtkxml_file_format.html
 
 from __future__ import annotations
 
-import os
 import sys
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -33,6 +32,7 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 from numpy.typing import DTypeLike, NDArray
 
+from peridynamics.io.atomic import atomic_path
 from peridynamics.io.vtk import _pad3
 
 __all__ = ["VTK_TYPES", "piece_name", "pvtu_fields", "write_pvtu"]
@@ -189,6 +189,5 @@ def write_pvtu(
             raise ValueError("empty piece file name")
         lines.append(f"    <Piece Source={quoteattr(source)}/>")
     lines += ["  </PUnstructuredGrid>", "</VTKFile>", ""]
-    tmp = Path(str(path) + ".tmp")
-    tmp.write_text("\n".join(lines), encoding="utf-8")
-    os.replace(tmp, path)
+    with atomic_path(path) as tmp:
+        tmp.write_text("\n".join(lines), encoding="utf-8")

@@ -20,10 +20,10 @@ per-rank files is not built; a serial checkpoint is not written by MPI runs eith
 from __future__ import annotations
 
 import json
-import os
 from pathlib import Path
 from typing import Any
 
+from peridynamics.io.atomic import atomic_path
 from peridynamics.io.checkpoint import (
     Checkpoint,
     DamagedCheckpoint,
@@ -128,11 +128,10 @@ def write_rank_checkpoints(
     comm.barrier()  # every rank's file of this step exists
     marker = base / MARKER
     if session.root:
-        tmp = marker.with_suffix(".json.tmp")
         info = {"step": s.step, "t": s.t, "ranks": comm.size, **(meta or {})}
         info["previous"] = previous
-        tmp.write_text(json.dumps(info))
-        os.replace(tmp, marker)
+        with atomic_path(marker) as tmp:
+            tmp.write_text(json.dumps(info))
     comm.barrier()  # the marker names this step and the previous one: others can go
     keep = {name} | ({_name(previous["step"])} if previous else set())
     for stale in folder.glob("checkpoint_*.npz"):

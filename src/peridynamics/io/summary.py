@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import platform
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from peridynamics.io.atomic import atomic_path
 
 DEPENDENCIES = ("numpy", "scipy", "numba", "meshio", "pyyaml", "pydantic", "matplotlib", "rich")
 
@@ -48,7 +49,6 @@ def write_summary(
     if extra:
         data.update(extra)
     data = _clean(data)
-    tmp = Path(str(path) + ".tmp")
-    tmp.write_text(json.dumps(data, indent=2, allow_nan=False) + "\n")
-    os.replace(tmp, path)
+    with atomic_path(path) as tmp:
+        tmp.write_text(json.dumps(data, indent=2, allow_nan=False) + "\n")
     return data

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 from typing import Literal
 from xml.sax.saxutils import quoteattr
@@ -10,6 +9,8 @@ from xml.sax.saxutils import quoteattr
 import meshio
 import numpy as np
 from numpy.typing import NDArray
+
+from peridynamics.io.atomic import atomic_path
 
 
 def _pad3(a: NDArray, dtype: type = np.float64) -> NDArray:
@@ -38,15 +39,14 @@ def write_vtu(
         ("vertex", np.arange(len(pts), dtype=np.int32 if len(pts) < 2**31 else np.int64)[:, None])
     ]
     data = {k: _pad3(v, dtype) for k, v in fields.items()}
-    tmp = Path(str(path) + ".tmp.vtu")
-    meshio.write(
-        tmp,
-        meshio.Mesh(pts, cells, point_data=data),
-        file_format="vtu",
-        binary=True,
-        compression=compression,
-    )
-    os.replace(tmp, path)
+    with atomic_path(path) as tmp:
+        meshio.write(
+            tmp,
+            meshio.Mesh(pts, cells, point_data=data),
+            file_format="vtu",
+            binary=True,
+            compression=compression,
+        )
 
 
 def write_pvd(path: str | Path, frames: list[tuple[float, str]]) -> None:
@@ -59,6 +59,5 @@ def write_pvd(path: str | Path, frames: list[tuple[float, str]]) -> None:
     for t, name in frames:
         lines.append(f'    <DataSet timestep="{t!r}" group="" part="0" file={quoteattr(name)}/>')
     lines += ["  </Collection>", "</VTKFile>", ""]
-    tmp = Path(str(path) + ".tmp")
-    tmp.write_text("\n".join(lines))
-    os.replace(tmp, path)
+    with atomic_path(path) as tmp:
+        tmp.write_text("\n".join(lines))
