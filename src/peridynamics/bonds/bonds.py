@@ -265,7 +265,10 @@ class Bonds:
 
     def cut(self, x: NDArray[np.float64], cracks: Sequence[Crack]) -> Bonds:
         """Return a copy with every bond crossing one of ``cracks`` marked broken."""
-        hit = crossing_bonds(x, self.bond_i, self.bond_j, cracks)
+        return self.without(crossing_bonds(x, self.bond_i, self.bond_j, cracks))
+
+    def without(self, hit: NDArray[np.bool_]) -> Bonds:
+        """Return a copy with the bonds of mask ``hit`` (n_bonds,) marked broken."""
         intact = self.bond_intact.copy()
         intact[hit] = 0
         return self.replace(bond_intact=intact)

@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 from peridynamics import deck as dk
 from peridynamics.bonds import build_bonds, make_crack
 from peridynamics.bonds.bonds import Bonds
+from peridynamics.bonds.precrack import crossing_bonds
 from peridynamics.build.bodies import build_body_points, has_bodies
 from peridynamics.build.errors import SetupError
 from peridynamics.build.geometry import geometry_cloud
@@ -138,8 +139,11 @@ def build_bonds_for(deck: dk.Deck, cloud: PointCloud) -> Bonds:
     try:
         cracks = [make_crack(c.points) for c in deck.precracks]
         cracks += [notch.crack(z_bounds) for notch in notches]
-        bonds = build_bonds(cloud, d.delta, d.partial_volume, cracks)
+        bonds = build_bonds(cloud, d.delta, d.partial_volume)
+        # one crack at a time (as Bonds.cut does), so that a pre-crack that cuts no bond
+        # is seen without a second search
+        hits = [crossing_bonds(cloud.x, bonds.bond_i, bonds.bond_j, [c]) for c in cracks]
     except ValueError as exc:
         raise SetupError("discretisation", str(exc)) from None
-    warn_idle_precracks(deck, cloud.x, bonds)
-    return bonds
+    warn_idle_precracks(deck, cloud.x, hits[: len(deck.precracks)])
+    return bonds.without(np.logical_or.reduce(hits)) if hits else bonds

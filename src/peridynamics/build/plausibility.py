@@ -22,11 +22,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics import deck as dk
-from peridynamics.bonds.precrack import crossing_bonds, make_crack
 
 if TYPE_CHECKING:
     from peridynamics.bodies.build import BodyLayout
-    from peridynamics.bonds import Bonds
     from peridynamics.geometry import PointCloud
 
 #: a horizon above this fraction of the body's largest extent is reported
@@ -90,11 +88,13 @@ def warn_overlapping_bodies(deck: dk.Deck, cloud: PointCloud, layout: BodyLayout
         )
 
 
-def warn_idle_precracks(deck: dk.Deck, x: NDArray[np.float64], bonds: Bonds) -> None:
-    """Warn for every pre-crack that crosses no bond (it lies outside the body)."""
-    for n, spec in enumerate(deck.precracks):
-        crack = make_crack(spec.points)
-        if crossing_bonds(x, bonds.bond_i, bonds.bond_j, [crack]).any():
+def warn_idle_precracks(
+    deck: dk.Deck, x: NDArray[np.float64], hits: list[NDArray[np.bool_]]
+) -> None:
+    """Warn for every pre-crack that crosses no bond (it lies outside the body);
+    ``hits``: the bonds each of ``deck.precracks`` crosses, masks (n_bonds,)."""
+    for n, (spec, hit) in enumerate(zip(deck.precracks, hits, strict=True)):
+        if hit.any():
             continue
         lo, hi = x.min(axis=0), x.max(axis=0)
         warnings.warn(
