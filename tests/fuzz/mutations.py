@@ -215,17 +215,19 @@ def mutated_deck(
         path, node = draw(st.sampled_from(found)) if found else ((), data)
         parent = _parent(data, path) if path else None
         if op == "leaf" and path:
-            parent[path[-1]] = draw(plausible(node, path[-1]))
+            parent[path[-1]] = _fresh(draw(plausible(node, path[-1])))
         elif op == "replace" and path:
-            parent[path[-1]] = draw(value_for(node, path[-1]))
+            parent[path[-1]] = _fresh(draw(value_for(node, path[-1])))
         elif op == "delete" and path:
             del parent[path[-1]]
         elif op == "insert":
             target = node if isinstance(node, dict) else data
             key = draw(st.sampled_from(sv.keys_for(target) + ["unknown_key", "", "Name"]))
-            target[key] = draw(value_for(target.get(key), key))
+            target[key] = _fresh(draw(value_for(target.get(key), key)))
         elif op == "wrap" and path:
-            parent[path[-1]] = draw(st.sampled_from([[node], {"value": node}, [node, node]]))
+            parent[path[-1]] = _fresh(
+                draw(st.sampled_from([[node], {"value": node}, [node, node]]))
+            )
         elif op == "raw" and path:
             parent[path[-1]] = PLACEHOLDER.format(len(raws))
             raws.append(draw(st.sampled_from(RAW)))
@@ -239,6 +241,13 @@ def mutated_deck(
     return name, dump(data, raws)
 
 
+def _fresh(value: Any) -> Any:
+    """A deep copy of a drawn value: a value shared with the schema's cached defaults
+    (or with another node of the deck) and changed in place by a later mutation would
+    change what the next example draws (hypothesis's ``FlakyStrategyDefinition``)."""
+    return copy.deepcopy(value)
+
+
 def _graft(draw: st.DrawFn, data: dict[str, Any]) -> None:
     """Put a section of another example, or a skeleton of a schema model, into the
     deck: at the top level, as a list item, or in place of a node."""
@@ -247,11 +256,11 @@ def _graft(draw: st.DrawFn, data: dict[str, Any]) -> None:
         key = draw(st.sampled_from(sorted(donor)))
         value = donor[key]
         if isinstance(value, list) and value and isinstance(data.get(key), list):
-            data[key].append(draw(st.sampled_from(value)))
+            data[key].append(_fresh(draw(st.sampled_from(value))))
         else:
             data[key] = value
         return
-    piece = sv.skeleton(draw(st.sampled_from(sv.model_names())))
+    piece = _fresh(sv.skeleton(draw(st.sampled_from(sv.model_names()))))
     found = [(p, n) for p, n in nodes(data) if isinstance(n, dict | list)]
     if not found:
         data[draw(st.sampled_from(sv.section_names()))] = piece
