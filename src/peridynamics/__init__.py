@@ -3,12 +3,20 @@
 The names below are imported when first used (PEP 562), so that ``import
 peridynamics.cli`` (the command line) starts without loading NumPy, Numba and the
 models before it can handle Ctrl-C.
+
+Importing the package first points Numba's cache of compiled kernels at a user cache
+directory that survives reinstalls (:mod:`peridynamics.kernels.cache`; standard library
+only), before any module of the package imports Numba.
 """
 
 from __future__ import annotations
 
 from importlib import import_module
 from typing import TYPE_CHECKING, Any
+
+from peridynamics.kernels.cache import configure as _configure_numba_cache
+
+_configure_numba_cache()  # before any kernel module imports Numba: sets NUMBA_CACHE_DIR
 
 if TYPE_CHECKING:
     from peridynamics.bonds import Bonds, build_bonds
