@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from peridynamics.evaluation.spectral import SpectralEstimate, largest_eigenvalue
 from peridynamics.evaluation.stability import StableStep
 from peridynamics.kernels import bond_based
 from peridynamics.kernels.viscous import add_viscous_force
@@ -55,6 +56,12 @@ class Measures:
         return self._sed
 
     def _add_force_model_fields(self, s: State) -> None:
+        raise NotImplementedError  # the model's (:mod:`peridynamics.evaluation.evaluator`)
+
+    def new_state(self) -> State:
+        raise NotImplementedError  # the model's (:mod:`peridynamics.evaluation.evaluator`)
+
+    def exchange_dofs(self, state: State) -> None:
         raise NotImplementedError  # the model's (:mod:`peridynamics.evaluation.evaluator`)
 
     @property
@@ -230,9 +237,53 @@ class Measures:
         """Mean compressive stress -tr(sigma) / dim of each point, shape (n,) (Pa)."""
         return -np.trace(self.point_stress(u, intact), axis1=1, axis2=2) / self.dim
 
+    #: tighten the bounds of a family that declares ``spectral_bound`` by the Lanczos
+    #: estimate of :mod:`peridynamics.evaluation.spectral` (False: the analytic bound)
+    use_spectral_bound: bool = True
+
+    @property
+    def spectral_applies(self) -> bool:
+        """True when the stable step and :meth:`stiffness_bound` use the Lanczos estimate
+        (the family declares ``spectral_bound``, one dof group, not switched off)."""
+        fm = self.force_model
+        return (
+            self.use_spectral_bound
+            and bool(getattr(fm, "spectral_bound", False))
+            and len(fm.dofs()) == 1
+        )
+
+    def spectral_estimate(self, metric: str) -> SpectralEstimate:
+        """The Lanczos estimate (:func:`~peridynamics.evaluation.spectral.largest_eigenvalue`)
+        of the largest eigenvalue of W^-1 K at the reference state, made once per metric:
+        ``"mass"`` (W = rho V: omega_max^2, 1/s^2) or ``"bound"`` (W = 2 diag(K_i V_i)
+        of the family's analytic bound: the factor mu <= 1 it may be lowered by)."""
+        cache: dict[str, SpectralEstimate] = self.__dict__.setdefault("_spectral_cache", {})
+        if metric not in cache:
+            vol = self.cloud.volume
+            if metric == "mass":
+                weight = self.density * vol
+            elif metric == "bound":
+                weight = 2.0 * self.force_model.stiffness_bound() * vol[: self._n_families]
+                weight = np.concatenate([weight, np.zeros(self.n_points - len(weight))])
+            else:
+                raise ValueError(f"unknown metric {metric!r}: use 'mass' or 'bound'")
+            cache[metric] = largest_eigenvalue(self, np.asarray(weight, dtype=np.float64))
+        return cache[metric]
+
+    @property
+    def _n_families(self) -> int:
+        return len(self.bonds.offsets) - 1
+
     def stiffness_bound(self) -> NDArray[np.float64]:
-        """Per-point stiffness bound K_i of the force model (N/m^4), shape (n,)."""
-        return self.force_model.stiffness_bound()
+        """Per-point stiffness bound K_i of the force model (N/m^4), shape (n,): the
+        family's analytic bound, lowered by the factor min(1, SAFETY mu) of the Lanczos
+        estimate (:meth:`spectral_estimate`, metric ``"bound"``) where it applies, so that
+        K <= 2 diag(K_i V_i) still holds (the contract of dynamic relaxation's density)."""
+        bound = self.force_model.stiffness_bound()
+        if not self.spectral_applies:
+            return bound
+        mu = self.spectral_estimate("bound").bound
+        return np.asarray(bound * min(1.0, mu) if mu > 0 else bound)
 
     def _elastic_bond_stiffness(self) -> NDArray[np.float64]:
         """Bond stiffness of a bond-based model, or the PMB-equivalent micromodulus times
@@ -250,8 +301,10 @@ class Measures:
         """The stable explicit step and its parts
         (:class:`~peridynamics.evaluation.stability.StableStep`): the elastic bound
         dt_el, min over points and dof groups of Silling & Askari's sqrt(2 rho / K_i)
-        (s); the mass damping c_d (1/s); and gamma (s), the largest ratio of viscous to
-        elastic bond coefficient (the 1-D rate constant of PD wave dispersion (n.d.),
+        (s), or, where :attr:`spectral_applies`, the larger 2 / sqrt(SAFETY theta) of the
+        Lanczos estimate theta of omega_max^2 (:mod:`peridynamics.evaluation.spectral`);
+        the mass damping c_d (1/s); and gamma (s), the largest ratio of viscous to elastic
+        bond coefficient (the 1-D rate constant of PD wave dispersion (n.d.),
         eq. 39). The quadratic viscosity depends on the amplitude and is not included.
         """
         dt = np.inf
@@ -260,6 +313,11 @@ class Measures:
             with np.errstate(divide="ignore"):
                 per_point = np.where(bound > 0, np.sqrt(2.0 * self.inertia(group) / bound), np.inf)
             dt = min(dt, self.comm.min(float(per_point.min()) if per_point.size else np.inf))
+        if self.spectral_applies and np.isfinite(dt):
+            # omega_max^2 <= min(SAFETY theta, analytic): never shorter than the analytic step
+            lam = self.spectral_estimate("mass").bound
+            if lam > 0:
+                dt = max(dt, 2.0 / float(np.sqrt(lam)))
         gamma = 0.0
         if self._viscous is not None and self._viscous[0] > 0:
             k = self._elastic_bond_stiffness()

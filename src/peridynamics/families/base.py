@@ -108,6 +108,11 @@ class ForceModel(ABC):
     #: capability: a per-bond ``stiffness`` that SED softening may rescale in place
     #: (:mod:`peridynamics.families.pmb_sed`)
     sed_softening: ClassVar[bool] = False
+    #: capability: the evaluator may tighten :meth:`stiffness_bound` (the stable step,
+    #: the fictitious density of dynamic relaxation) by a Lanczos estimate of the
+    #: largest eigenvalue of the linearised force (:mod:`peridynamics.evaluation.spectral`);
+    #: for families with one dof group whose analytic bound is loose
+    spectral_bound: ClassVar[bool] = False
     cloud: PointCloud
     bonds: Bonds
 

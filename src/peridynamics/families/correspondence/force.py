@@ -101,6 +101,7 @@ class CorrespondenceForceModel(ForceModel):
     """
 
     name: ClassVar[str] = "correspondence"
+    spectral_bound: ClassVar[bool] = True  # the evaluator tightens the bound
     reach: ClassVar[int] = 2
 
     def __init__(self, cloud: PointCloud, bonds: Bonds, material: CorrespondenceConstants) -> None:

@@ -123,6 +123,7 @@ class LPSForceModel(ForceModel):
     """
 
     name: ClassVar[str] = "lps"
+    spectral_bound: ClassVar[bool] = True  # the evaluator tightens the bound
     reach: ClassVar[int] = 2
 
     def __init__(
