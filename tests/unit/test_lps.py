@@ -189,14 +189,27 @@ def test_micromodulus_constant_is_the_bond_based_one():
 
 # -- kernels vs twins -------------------------------------------------------------------
 def test_max_stretch_is_largest_tensile_intact_stretch():
+    """update_max_stretch: the largest r/L - 1 of an intact bond (NumPy over the bonds),
+    0 under compression and where every bond is broken."""
     model, st = model_and_state(2, seed=5)
     st.u[:] = 0.0
     st.u[:, 0] = -1e-3 * model.cloud.x[:, 0]  # uniform compression: nothing stretched
     evaluate(model, st)
+    model.update_max_stretch(st)
     assert np.all(st.max_stretch == 0.0)
+    st.u[:] = np.random.default_rng(6).normal(0.0, 0.05 * DX, st.u.shape)
+    b = model.bonds
+    st.intact[::3] = 0
+    y = b.bond_xi + st.u[b.bond_j] - st.u[b.bond_i]
+    s = np.where(st.intact > 0, np.linalg.norm(y, axis=1) / b.bond_length - 1.0, -np.inf)
+    expected = np.maximum(np.maximum.reduceat(s, b.offsets[:-1]), 0.0)
+    model.update_max_stretch(st)
+    np.testing.assert_allclose(st.max_stretch, expected, rtol=1e-12, atol=1e-15)
+    assert expected.max() > 0.0
     st.u[:, 0] = 1e-3 * model.cloud.x[:, 0]
     st.intact[:] = 0  # every bond broken: no intact bond, no force
     f = evaluate(model, st)
+    model.update_max_stretch(st)
     assert np.all(st.max_stretch == 0.0) and np.all(f == 0.0)
 
 

@@ -3,10 +3,11 @@
 Every Numba kernel here has a NumPy twin in :mod:`peridynamics.kernels.reference_lps`
 that the tests compare against. The kernels gather over each point's family in the
 directed CSR bond list (both (i, j) and (j, i) stored) and each point writes only its
-own rows: no atomics. They loop over the points that own a family,
-``n = offsets.shape[0] - 1``; per-point inputs (``theta``, ``cd``, ``a``) are read at
-the far end of a bond too and so must be valid for every row of ``x`` (ghosts
-included).
+own rows: no atomics. The hot family loops (dilatation, force) index with unsigned
+integers and keep no max reduction, so LLVM vectorises them. They loop over the
+points that own a family, ``n = offsets.shape[0] - 1``; per-point inputs (``theta``,
+``cd``, ``a``) are read at the far end of a bond too and so must be valid for every
+row of ``x`` (ghosts included).
 
 Notation (per directed bond k = (i, j), all bonds of the family of i):
 
@@ -125,8 +126,10 @@ def dilatation_2d(x, u, offsets, bond_j, length, wv, intact, theta_scale, theta)
     for i in prange(n):
         acc = 0.0
         for k in range(offsets[i], offsets[i + 1]):
-            _, _, _, e = _bond_2d(x, u, i, bond_j[k], length[k])
-            acc += intact[k] * wv[k] * length[k] * e
+            q = np.uint64(k)
+            lk = length[q]
+            _, _, _, e = _bond_2d(x, u, i, np.uint64(bond_j[q]), lk)
+            acc += np.float64(intact[q]) * wv[q] * lk * e
         theta[i] = theta_scale[i] * acc
 
 
@@ -137,15 +140,17 @@ def dilatation_3d(x, u, offsets, bond_j, length, wv, intact, theta_scale, theta)
     for i in prange(n):
         acc = 0.0
         for k in range(offsets[i], offsets[i + 1]):
-            _, _, _, _, e = _bond_3d(x, u, i, bond_j[k], length[k])
-            acc += intact[k] * wv[k] * length[k] * e
+            q = np.uint64(k)
+            lk = length[q]
+            _, _, _, _, e = _bond_3d(x, u, i, np.uint64(bond_j[q]), lk)
+            acc += np.float64(intact[q]) * wv[q] * lk * e
         theta[i] = theta_scale[i] * acc
 
 
 # -- force ------------------------------------------------------------------------------
 @_hot
-def force_2d(x, u, offsets, bond_j, length, wv, wvf, intact, theta, cd, a, force, smax_out):
-    """2-D LPS force density (N/m^3) and largest tensile stretch; pure (never breaks).
+def force_2d(x, u, offsets, bond_j, length, wv, wvf, intact, theta, cd, a, force):
+    """2-D LPS force density (N/m^3); pure (never breaks).
 
     Parameters
     ----------
@@ -158,8 +163,12 @@ def force_2d(x, u, offsets, bond_j, length, wv, wvf, intact, theta, cd, a, force
     cd : (n_all,) dilatation coefficient k_theta tf / m_i (N/m^7).
     a : (n_all,) extension coefficient alpha / m_i (N/m^7).
     force : (n_all, 2) output force density; rows ``0..n-1`` are written.
-    smax_out : (n_all,) output: largest stretch ``e / L`` of an intact bond, 0 if none
-        is stretched.
+
+    Notes
+    -----
+    The family loop vectorises: unsigned indices (plain loads of the per-bond streams)
+    and no max reduction in it; the largest stretch is a pass of its own
+    (:func:`peridynamics.kernels.bond_based.largest_stretch`), run when a solver asks.
     """
     n = offsets.shape[0] - 1
     for i in prange(n):
@@ -167,28 +176,26 @@ def force_2d(x, u, offsets, bond_j, length, wv, wvf, intact, theta, cd, a, force
         ai = a[i]
         f0 = 0.0
         f1 = 0.0
-        smax = 0.0
         for k in range(offsets[i], offsets[i + 1]):
-            j = bond_j[k]
-            y0, y1, r, e = _bond_2d(x, u, i, j, length[k])
-            m = intact[k]
-            w_i = wv[k]
-            w_j = wvf[k]
+            q = np.uint64(k)
+            j = np.uint64(bond_j[q])
+            lk = length[q]
+            y0, y1, r, e = _bond_2d(x, u, i, j, lk)
+            w_i = wv[q]
+            w_j = wvf[q]
             g = (
-                m
-                * ((w_i * ci + w_j * cd[j] * theta[j]) * length[k] + (w_i * ai + w_j * a[j]) * e)
+                np.float64(intact[q])
+                * ((w_i * ci + w_j * cd[j] * theta[j]) * lk + (w_i * ai + w_j * a[j]) * e)
                 / r
             )
             f0 += g * y0
             f1 += g * y1
-            smax = max(smax, m * e / length[k])
         force[i, 0] = f0
         force[i, 1] = f1
-        smax_out[i] = smax
 
 
 @_hot
-def force_3d(x, u, offsets, bond_j, length, wv, wvf, intact, theta, cd, a, force, smax_out):
+def force_3d(x, u, offsets, bond_j, length, wv, wvf, intact, theta, cd, a, force):
     """3-D LPS force density (N/m^3); arguments as :func:`force_2d` with dim 3."""
     n = offsets.shape[0] - 1
     for i in prange(n):
@@ -197,26 +204,24 @@ def force_3d(x, u, offsets, bond_j, length, wv, wvf, intact, theta, cd, a, force
         f0 = 0.0
         f1 = 0.0
         f2 = 0.0
-        smax = 0.0
         for k in range(offsets[i], offsets[i + 1]):
-            j = bond_j[k]
-            y0, y1, y2, r, e = _bond_3d(x, u, i, j, length[k])
-            m = intact[k]
-            w_i = wv[k]
-            w_j = wvf[k]
+            q = np.uint64(k)
+            j = np.uint64(bond_j[q])
+            lk = length[q]
+            y0, y1, y2, r, e = _bond_3d(x, u, i, j, lk)
+            w_i = wv[q]
+            w_j = wvf[q]
             g = (
-                m
-                * ((w_i * ci + w_j * cd[j] * theta[j]) * length[k] + (w_i * ai + w_j * a[j]) * e)
+                np.float64(intact[q])
+                * ((w_i * ci + w_j * cd[j] * theta[j]) * lk + (w_i * ai + w_j * a[j]) * e)
                 / r
             )
             f0 += g * y0
             f1 += g * y1
             f2 += g * y2
-            smax = max(smax, m * e / length[k])
         force[i, 0] = f0
         force[i, 1] = f1
         force[i, 2] = f2
-        smax_out[i] = smax
 
 
 # -- energy -----------------------------------------------------------------------------

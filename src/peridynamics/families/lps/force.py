@@ -66,6 +66,7 @@ from peridynamics.families.base import FieldSpec, ForceModel
 from peridynamics.families.calibration import calibrate_influence
 from peridynamics.families.lps.tangent import lps_tangent
 from peridynamics.geometry.cloud import PointCloud
+from peridynamics.kernels import bond_based
 from peridynamics.kernels import lps as kernels
 
 if TYPE_CHECKING:
@@ -188,9 +189,10 @@ class LPSForceModel(ForceModel):
         )  # fmt: skip
 
     def force(self, state: State) -> None:
-        """LPS force density (N/m^3) into ``state.force`` and the largest tensile stretch
-        of an intact bond into ``state.max_stretch``; reads ``state["dilatation"]`` of
-        the last :meth:`prepass`. Pure: never breaks a bond."""
+        """LPS force density (N/m^3) into ``state.force``; reads ``state["dilatation"]``
+        of the last :meth:`prepass`. Pure: never breaks a bond. The largest stretch is
+        not tracked here (the family loop vectorises without that max):
+        :meth:`update_max_stretch`."""
         if "dilatation" not in state:
             raise KeyError(
                 "state has no 'dilatation' field: call LPSForceModel.prepass(state) before "
@@ -200,8 +202,17 @@ class LPSForceModel(ForceModel):
         self._force(
             self.cloud.x, state.u, b.offsets, b.bond_j, b.bond_length, self.omega_volume,
             self.omega_volume_far, state.intact, state["dilatation"], self.dilatation_coef,
-            self.extension_coef, state.force, state.max_stretch,
+            self.extension_coef, state.force,
         )  # fmt: skip
+
+    def update_max_stretch(self, state: State, above: float = 0.0) -> None:
+        """``state.max_stretch`` (n,): the largest stretch r/L - 1 of an intact bond of
+        each point where it exceeds ``above``, 0 elsewhere (the pass of
+        :func:`peridynamics.kernels.bond_based.largest_stretch`)."""
+        b = self.bonds
+        bond_based.largest_stretch(
+            self.cloud.x, state.u, b.offsets, b.bond_j, state.intact, above, state.max_stretch
+        )
 
     def energy_density(self, state: State) -> NDArray[np.float64]:
         """W_i = k_theta theta_i^2 / 2 + (alpha / 2 m_i) sum_k mu_k wv_k e_k^2 (J/m^3),
