@@ -1,10 +1,11 @@
 """Where Numba keeps the compiled kernels: a user cache directory, not site-packages.
 
-Every kernel is ``@njit(cache=True)``. By default Numba writes its cache next to the
-source, into ``__pycache__`` inside site-packages, which a reinstall wipes and which may
-be read-only; a fresh install then compiles every kernel a run calls again (most of a
-cold start). :func:`configure`, called by ``peridynamics/__init__.py`` before anything
-imports Numba, points ``NUMBA_CACHE_DIR`` at a directory that survives reinstalls:
+Every kernel is ``@njit(cache=True)``, compiled on its first call. By default Numba
+writes its cache next to the source, into ``__pycache__`` inside site-packages, which
+may be read-only (Numba then falls back to its own ``~/.cache/numba``) and which pip
+leaves behind on a reinstall, where an entry is checked against its own file only.
+:func:`configure`, called by ``peridynamics/__init__.py`` before anything imports
+Numba, points ``NUMBA_CACHE_DIR`` at a documented user cache directory instead:
 
 1. ``NUMBA_CACHE_DIR`` when the user has set it (left as it is);
 2. else ``$PERIDYNAMICS_CACHE_DIR/numba/<digest>``;
