@@ -27,12 +27,13 @@ Stabilisation (``mode``; per-point coefficient ``stab_i``, 0 on a degenerate poi
 
 In the pair form ``T_i<xi> - T_j<-xi> = (A_i + A_j) xi + stab_i z_i + stab_j z_j``
 (Silling) or ``+ (stab_i xi.z_i + stab_j xi.z_j) xi / L^3`` (LBSCMM), with ``z_j = y -
-F_j xi`` the deviation of the same bond from the far point's deformation.
+F_j xi`` the deviation of the same bond from the far point's deformation. The force
+pass is :mod:`peridynamics.kernels.correspondence_force` (specialised by dimension and
+mode).
 """
 
 from __future__ import annotations
 
-import numpy as np
 from numba import njit, prange
 
 from peridynamics.kernels.correspondence_points import (  # re-exported: one kernel module
@@ -53,8 +54,8 @@ MODE_SILLING = 1
 MODE_LBSCMM = 2
 
 __all__ = [
-    "LAW_LINEAR", "LAW_SVK", "MODE_LBSCMM", "MODE_NONE", "MODE_SILLING", "force",
-    "force_tensor", "invert_in_place", "prepass", "shape_determinant", "stabilization_energy",
+    "LAW_LINEAR", "LAW_SVK", "MODE_LBSCMM", "MODE_NONE", "MODE_SILLING", "force_tensor",
+    "invert_in_place", "prepass", "shape_determinant", "stabilization_energy",
 ]  # fmt: skip
 
 
@@ -281,118 +282,12 @@ def prepass(
             fgrad[i, a, a] += 1.0
 
 
-@_hot
-def force(
-    bond_xi, length, u, offsets, bond_j, wv, intact, amat, fgrad, stab, mode, out, max_stretch
-):  # fmt: skip
-    """Correspondence force density f_i = sum_k w_k (T_i<xi_k> - T_j<-xi_k>) (N/m^3).
-
-    Parameters
-    ----------
-    bond_xi, length, u, offsets, bond_j, wv, intact : as :func:`prepass`.
-    amat : (n_all, d, d) A_i = (P_i - sigma^s_i) K_i^-1 (N/m^5 / m^... : Pa/m^5).
-    fgrad : (n_all, d, d) deformation gradients.
-    stab : (n_all,) stabilisation coefficients (0 on degenerate points).
-    mode : int, 0 none, 1 Silling, 2 LBSCMM.
-    out : (n_all, d) output force density; rows ``0..n-1`` are written.
-    max_stretch : (n_all,) output, the largest (|y| - L) / L over intact bonds (0 if none
-        is stretched).
-    """
-    n = offsets.shape[0] - 1
-    d = u.shape[1]
-    for i in prange(n):
-        f0 = 0.0
-        f1 = 0.0
-        f2 = 0.0
-        smax = 0.0
-        si = stab[i]
-        for k in range(offsets[i], offsets[i + 1]):
-            w = wv[k] * intact[k]
-            if w == 0.0:
-                continue
-            j = bond_j[k]
-            sj = stab[j]
-            lk = length[k]
-            x0 = bond_xi[k, 0]
-            x1 = bond_xi[k, 1]
-            x2 = bond_xi[k, 2] if d == 3 else 0.0
-            y0 = x0 + u[j, 0] - u[i, 0]
-            y1 = x1 + u[j, 1] - u[i, 1]
-            y2 = x2 + u[j, 2] - u[i, 2] if d == 3 else 0.0
-            if d == 2:
-                t0 = (amat[i, 0, 0] + amat[j, 0, 0]) * x0 + (amat[i, 0, 1] + amat[j, 0, 1]) * x1
-                t1 = (amat[i, 1, 0] + amat[j, 1, 0]) * x0 + (amat[i, 1, 1] + amat[j, 1, 1]) * x1
-                t2 = 0.0
-                if mode != 0:
-                    zi0 = y0 - fgrad[i, 0, 0] * x0 - fgrad[i, 0, 1] * x1
-                    zi1 = y1 - fgrad[i, 1, 0] * x0 - fgrad[i, 1, 1] * x1
-                    zj0 = y0 - fgrad[j, 0, 0] * x0 - fgrad[j, 0, 1] * x1
-                    zj1 = y1 - fgrad[j, 1, 0] * x0 - fgrad[j, 1, 1] * x1
-                    if mode == 1:
-                        t0 += si * zi0 + sj * zj0
-                        t1 += si * zi1 + sj * zj1
-                    else:
-                        g = (si * (x0 * zi0 + x1 * zi1) + sj * (x0 * zj0 + x1 * zj1)) / (
-                            lk * lk * lk
-                        )
-                        t0 += g * x0
-                        t1 += g * x1
-                r = np.sqrt(y0 * y0 + y1 * y1)
-            else:
-                t0 = 0.0
-                t1 = 0.0
-                t2 = 0.0
-                for b in range(3):
-                    xb = bond_xi[k, b]
-                    t0 += (amat[i, 0, b] + amat[j, 0, b]) * xb
-                    t1 += (amat[i, 1, b] + amat[j, 1, b]) * xb
-                    t2 += (amat[i, 2, b] + amat[j, 2, b]) * xb
-                if mode != 0:
-                    zi0 = y0
-                    zi1 = y1
-                    zi2 = y2
-                    zj0 = y0
-                    zj1 = y1
-                    zj2 = y2
-                    for b in range(3):
-                        xb = bond_xi[k, b]
-                        zi0 -= fgrad[i, 0, b] * xb
-                        zi1 -= fgrad[i, 1, b] * xb
-                        zi2 -= fgrad[i, 2, b] * xb
-                        zj0 -= fgrad[j, 0, b] * xb
-                        zj1 -= fgrad[j, 1, b] * xb
-                        zj2 -= fgrad[j, 2, b] * xb
-                    if mode == 1:
-                        t0 += si * zi0 + sj * zj0
-                        t1 += si * zi1 + sj * zj1
-                        t2 += si * zi2 + sj * zj2
-                    else:
-                        g = (
-                            si * (x0 * zi0 + x1 * zi1 + x2 * zi2)
-                            + sj * (x0 * zj0 + x1 * zj1 + x2 * zj2)
-                        ) / (lk * lk * lk)
-                        t0 += g * x0
-                        t1 += g * x1
-                        t2 += g * x2
-                r = np.sqrt(y0 * y0 + y1 * y1 + y2 * y2)
-            f0 += w * t0
-            f1 += w * t1
-            f2 += w * t2
-            s = (r - lk) / lk
-            if s > smax:
-                smax = s
-        out[i, 0] = f0
-        out[i, 1] = f1
-        if d == 3:
-            out[i, 2] = f2
-        max_stretch[i] = smax
-
-
 @_exact
 def stabilization_energy(bond_xi, length, u, offsets, bond_j, wv, intact, fgrad, stab, mode, out):
     """Energy density of the stabilisation of every point (J/m^3), shape (n,):
     Silling ``stab_i / 2 sum_k w_k |z_ik|^2``, LBSCMM ``stab_i / 2 sum_k w_k
-    (xi . z_ik)^2 / L^3``; 0 for mode 0. Arguments as :func:`force`."""
+    (xi . z_ik)^2 / L^3``; 0 for mode 0. Arguments as
+    :func:`peridynamics.kernels.correspondence_force.force_2d`."""
     n = offsets.shape[0] - 1
     d = u.shape[1]
     for i in prange(n):

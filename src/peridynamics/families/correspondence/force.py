@@ -41,7 +41,9 @@ from numpy.typing import NDArray
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.families.base import FieldSpec, ForceModel
 from peridynamics.geometry.cloud import PointCloud
+from peridynamics.kernels import bond_based
 from peridynamics.kernels import correspondence as kernels
+from peridynamics.kernels import correspondence_force as force_kernels
 
 if TYPE_CHECKING:
     from peridynamics.state import State
@@ -227,20 +229,30 @@ class CorrespondenceForceModel(ForceModel):
         return np.asarray(a.reshape(n_all, d, d))
 
     def force(self, state: State) -> None:
-        """Correspondence force density (N/m^3) into ``state.force`` and the largest
-        tensile stretch of an intact bond into ``state.max_stretch``; reads the fields
-        of the last :meth:`prepass`. Pure: never breaks a bond."""
+        """Correspondence force density (N/m^3) into ``state.force``; reads the fields of
+        the last :meth:`prepass`. Pure: never breaks a bond. The largest stretch is not
+        tracked here (the family loop vectorises without that max):
+        :meth:`update_max_stretch`."""
         if "force_tensor" not in state:
             raise KeyError(
                 "state has no 'force_tensor' field: call CorrespondenceForceModel.prepass("
                 "state) before force(state)"
             )
         b = self.bonds
-        kernels.force(
+        force_kernels.FORCE_KERNELS[self.cloud.dim](
             self.bond_xi, self.length, state.u, b.offsets, b.bond_j, self.weight, state.intact,
             self._tensor(state, "force_tensor"), self._tensor(state, "deformation_gradient"),
-            state["stabilization"], self.mode, state.force, state.max_stretch,
+            state["stabilization"], self.mode, state.force,
         )  # fmt: skip
+
+    def update_max_stretch(self, state: State, above: float = 0.0) -> None:
+        """``state.max_stretch`` (n,): the largest stretch r/L - 1 of an intact bond of
+        each point where it exceeds ``above``, 0 elsewhere (the pass of
+        :func:`peridynamics.kernels.bond_based.largest_stretch`)."""
+        b = self.bonds
+        bond_based.largest_stretch(
+            self.cloud.x, state.u, b.offsets, b.bond_j, state.intact, above, state.max_stretch
+        )
 
     def energy_density(self, state: State) -> NDArray[np.float64]:
         """W_i = active_i W(F_i) + stabilisation energy (J/m^3), shape (n,), recomputed
