@@ -43,6 +43,7 @@ from peridynamics.kernels.correspondence_points import (  # re-exported: one ker
     invert_in_place,
     shape_determinant,
 )
+from peridynamics.kernels.correspondence_sums import lbscmm_sums_3d, sums_2d, sums_3d
 
 #: hot loops: fast-math lets LLVM vectorise the family sums
 _hot = njit(parallel=True, fastmath=True, error_model="numpy", cache=True)
@@ -106,106 +107,27 @@ def prepass(
                 kinv[i, a, b] = 0.0
                 fgrad[i, a, b] = 0.0
                 sigma_s[i, a, b] = 0.0
-        om = 0.0
-        for k in range(offsets[i], offsets[i + 1]):
-            w = wv[k] * intact[k]
-            if w == 0.0:
-                continue
-            j = bond_j[k]
-            om += w
-            x0 = bond_xi[k, 0]
-            x1 = bond_xi[k, 1]
-            e0 = u[j, 0] - u[i, 0]
-            e1 = u[j, 1] - u[i, 1]
-            if d == 2:
-                acc[0] += w * x0 * x0
-                acc[1] += w * x1 * x1
-                acc[2] += w * x0 * x1
-                fgrad[i, 0, 0] += w * e0 * x0
-                fgrad[i, 0, 1] += w * e0 * x1
-                fgrad[i, 1, 0] += w * e1 * x0
-                fgrad[i, 1, 1] += w * e1 * x1
-                if mode == 2:
-                    lk = length[k]
-                    wl = w / (lk * lk * lk)
-                    q = wl * (x0 * e0 + x1 * e1)
-                    p0 = x0 * x0
-                    p1 = x1 * x1
-                    p2 = x0 * x1
-                    acc[3] += q * p0
-                    acc[4] += q * p1
-                    acc[5] += q * p2
-                    acc[9] += wl * p0 * p0
-                    acc[10] += wl * p0 * p1
-                    acc[11] += wl * p0 * p2
-                    acc[13] += wl * p1 * p1
-                    acc[14] += wl * p1 * p2
-                    acc[17] += wl * p2 * p2
+        if d == 2:
+            if mode == 2:
+                t = sums_2d(i, bond_xi, length, u, offsets, bond_j, wv, intact, 2)
             else:
-                x2 = bond_xi[k, 2]
-                e2 = u[j, 2] - u[i, 2]
-                acc[0] += w * x0 * x0
-                acc[1] += w * x1 * x1
-                acc[2] += w * x2 * x2
-                acc[3] += w * x0 * x1
-                acc[4] += w * x0 * x2
-                acc[5] += w * x1 * x2
-                fgrad[i, 0, 0] += w * e0 * x0
-                fgrad[i, 0, 1] += w * e0 * x1
-                fgrad[i, 0, 2] += w * e0 * x2
-                fgrad[i, 1, 0] += w * e1 * x0
-                fgrad[i, 1, 1] += w * e1 * x1
-                fgrad[i, 1, 2] += w * e1 * x2
-                fgrad[i, 2, 0] += w * e2 * x0
-                fgrad[i, 2, 1] += w * e2 * x1
-                fgrad[i, 2, 2] += w * e2 * x2
-                if mode == 2:
-                    lk = length[k]
-                    wl = w / (lk * lk * lk)
-                    q = wl * (x0 * e0 + x1 * e1 + x2 * e2)
-                    p0 = x0 * x0
-                    p1 = x1 * x1
-                    p2 = x2 * x2
-                    p3 = x0 * x1
-                    p4 = x0 * x2
-                    p5 = x1 * x2
-                    acc[6] += q * p0
-                    acc[7] += q * p1
-                    acc[8] += q * p2
-                    acc[9] += q * p3
-                    acc[10] += q * p4
-                    acc[11] += q * p5
-                    base = 3 * m
-                    for r in range(6):
-                        pr = (
-                            p0
-                            if r == 0
-                            else p1
-                            if r == 1
-                            else p2
-                            if r == 2
-                            else p3
-                            if r == 3
-                            else p4
-                            if r == 4
-                            else p5
-                        )
-                        g = wl * pr
-                        for c in range(r, 6):
-                            pc = (
-                                p0
-                                if c == 0
-                                else p1
-                                if c == 1
-                                else p2
-                                if c == 2
-                                else p3
-                                if c == 3
-                                else p4
-                                if c == 4
-                                else p5
-                            )
-                            acc[base + r * 6 + c] += g * pc
+                t = sums_2d(i, bond_xi, length, u, offsets, bond_j, wv, intact, 0)
+            om = t[0]
+            acc[0], acc[1], acc[2] = t[1], t[2], t[3]
+            fgrad[i, 0, 0], fgrad[i, 0, 1], fgrad[i, 1, 0], fgrad[i, 1, 1] = t[4], t[5], t[6], t[7]
+            acc[3], acc[4], acc[5] = t[8], t[9], t[10]
+            acc[9], acc[10], acc[11] = t[11], t[12], t[13]
+            acc[13], acc[14], acc[17] = t[14], t[15], t[16]
+        else:
+            t3 = sums_3d(i, bond_xi, length, u, offsets, bond_j, wv, intact)
+            om = t3[0]
+            for c in range(6):
+                acc[c] = t3[1 + c]
+            for a in range(3):
+                for b in range(3):
+                    fgrad[i, a, b] = t3[7 + 3 * a + b]
+            if mode == 2:
+                lbscmm_sums_3d(i, bond_xi, length, u, offsets, bond_j, wv, intact, acc, 3 * m)
         omega0[i] = om
         # K from its symmetric components, inverted in place
         for a in range(d):
