@@ -43,7 +43,13 @@ from peridynamics.kernels.correspondence_points import (  # re-exported: one ker
     invert_in_place,
     shape_determinant,
 )
-from peridynamics.kernels.correspondence_sums import lbscmm_sums_3d, sums_2d, sums_3d
+from peridynamics.kernels.correspondence_sums import (
+    lbscmm_matrix_3d,
+    motion_sums_2d,
+    motion_sums_3d,
+    shape_sums_2d,
+    shape_sums_3d,
+)
 
 #: hot loops: fast-math lets LLVM vectorise the family sums
 _hot = njit(parallel=True, fastmath=True, error_model="numpy", cache=True)
@@ -63,7 +69,7 @@ __all__ = [
 @_hot
 def prepass(
     bond_xi, length, u, offsets, bond_j, wv, intact, det_ref, degenerate_ratio, mode, stab,
-    kinv, fgrad, sigma_s, omega0, active, scratch,
+    kinv, fgrad, sigma_s, omega0, active, scratch, reuse=False,
 ):  # fmt: skip
     """Shape tensor inverse, deformation gradient and (LBSCMM) sigma^s of every point,
     in one pass over each family.
@@ -93,6 +99,10 @@ def prepass(
     omega0 : (n_all,) output sum_k w_k (m^3).
     active : (n_all,) output 1.0 for a regular family, 0.0 for a degenerate one.
     scratch : (n_all, >= 3 m + m m) work rows, m = d (d + 1) / 2.
+    reuse : bool
+        True: no bond changed since the last call with these ``kinv``, ``omega0``,
+        ``active`` and ``scratch`` (the caller checks): K^-1, omega0, the degenerate
+        flags and LBSCMM's M are kept, only the sums that depend on ``u`` are made.
     """
     n = offsets.shape[0] - 1
     d = u.shape[1]
@@ -100,108 +110,161 @@ def prepass(
     # symmetric index pairs (a, b), a <= b: 2-D xx, yy, xy; 3-D xx, yy, zz, xy, xz, yz
     for i in prange(n):
         acc = scratch[i]
-        for c in range(3 * m + m * m):
-            acc[c] = 0.0
         for a in range(d):
             for b in range(d):
-                kinv[i, a, b] = 0.0
-                fgrad[i, a, b] = 0.0
                 sigma_s[i, a, b] = 0.0
-        if d == 2:
-            if mode == 2:
-                t = sums_2d(i, bond_xi, length, u, offsets, bond_j, wv, intact, 2)
-            else:
-                t = sums_2d(i, bond_xi, length, u, offsets, bond_j, wv, intact, 0)
-            om = t[0]
-            acc[0], acc[1], acc[2] = t[1], t[2], t[3]
-            fgrad[i, 0, 0], fgrad[i, 0, 1], fgrad[i, 1, 0], fgrad[i, 1, 1] = t[4], t[5], t[6], t[7]
-            acc[3], acc[4], acc[5] = t[8], t[9], t[10]
-            acc[9], acc[10], acc[11] = t[11], t[12], t[13]
-            acc[13], acc[14], acc[17] = t[14], t[15], t[16]
+        if reuse:
+            _motion(i, bond_xi, length, u, offsets, bond_j, wv, intact, mode, fgrad, acc)
+            if active[i] == 0.0:
+                for a in range(d):
+                    for b in range(d):
+                        fgrad[i, a, b] = 1.0 if a == b else 0.0
+                continue
         else:
-            t3 = sums_3d(i, bond_xi, length, u, offsets, bond_j, wv, intact)
-            om = t3[0]
-            for c in range(6):
-                acc[c] = t3[1 + c]
-            for a in range(3):
-                for b in range(3):
-                    fgrad[i, a, b] = t3[7 + 3 * a + b]
-            if mode == 2:
-                lbscmm_sums_3d(i, bond_xi, length, u, offsets, bond_j, wv, intact, acc, 3 * m)
-        omega0[i] = om
-        # K from its symmetric components, inverted in place
-        for a in range(d):
-            kinv[i, a, a] = acc[a]
-        kinv[i, 0, 1] = acc[d]
-        kinv[i, 1, 0] = acc[d]
-        if d == 3:
-            kinv[i, 0, 2] = acc[4]
-            kinv[i, 2, 0] = acc[4]
-            kinv[i, 1, 2] = acc[5]
-            kinv[i, 2, 1] = acc[5]
-        det = invert_in_place(kinv, i, d)
-        if not (det > degenerate_ratio * det_ref[i]) or not (det > 0.0):
-            active[i] = 0.0
+            for c in range(3 * m + m * m):
+                acc[c] = 0.0
             for a in range(d):
                 for b in range(d):
                     kinv[i, a, b] = 0.0
-                    fgrad[i, a, b] = 1.0 if a == b else 0.0
-            continue
+                    fgrad[i, a, b] = 0.0
+            if not _geometry(
+                i, bond_xi, length, u, offsets, bond_j, wv, intact, det_ref,
+                degenerate_ratio, mode, kinv, fgrad, omega0, active, acc,
+            ):  # fmt: skip
+                continue
+            _motion(i, bond_xi, length, u, offsets, bond_j, wv, intact, mode, fgrad, acc)
         active[i] = 1.0
-        # H = N' K^-1 row by row, then F = I + H (the sym. part of H kept for sigma^s)
-        for a in range(d):
-            r0 = fgrad[i, a, 0]
-            r1 = fgrad[i, a, 1]
-            r2 = fgrad[i, a, 2] if d == 3 else 0.0
-            for b in range(d):
-                v = r0 * kinv[i, 0, b] + r1 * kinv[i, 1, b]
-                if d == 3:
-                    v += r2 * kinv[i, 2, b]
-                fgrad[i, a, b] = v
+        _finish(i, d, mode, stab, kinv, fgrad, sigma_s, acc)
+
+
+@njit(inline="always")
+def _motion(i, bond_xi, length, u, offsets, bond_j, wv, intact, mode, fgrad, acc):
+    """The sums that depend on ``u`` into ``fgrad[i]`` (N) and ``acc`` (LBSCMM's q)."""
+    d = u.shape[1]
+    if d == 2:
         if mode == 2:
-            s = stab[i]
-            # xi^T H xi = sum_m h_m p_m with h = (H_aa, H_ab + H_ba for a < b)
-            if d == 2:
-                h0 = fgrad[i, 0, 0]
-                h1 = fgrad[i, 1, 1]
-                h2 = fgrad[i, 0, 1] + fgrad[i, 1, 0]
-                m00, m01, m02 = acc[9], acc[10], acc[11]
-                m11, m12, m22 = acc[13], acc[14], acc[17]
-                t0 = acc[3] - (m00 * h0 + m01 * h1 + m02 * h2)
-                t1 = acc[4] - (m01 * h0 + m11 * h1 + m12 * h2)
-                t2 = acc[5] - (m02 * h0 + m12 * h1 + m22 * h2)
-                sigma_s[i, 0, 0] = s * t0
-                sigma_s[i, 1, 1] = s * t1
-                sigma_s[i, 0, 1] = s * t2
-                sigma_s[i, 1, 0] = s * t2
-            else:
-                base = 3 * m
-                for r in range(6):
-                    t = acc[6 + r]
-                    for c in range(6):
-                        mm = acc[base + r * 6 + c] if c >= r else acc[base + c * 6 + r]
-                        if c < 3:
-                            hc = fgrad[i, c, c]
-                        elif c == 3:
-                            hc = fgrad[i, 0, 1] + fgrad[i, 1, 0]
-                        elif c == 4:
-                            hc = fgrad[i, 0, 2] + fgrad[i, 2, 0]
-                        else:
-                            hc = fgrad[i, 1, 2] + fgrad[i, 2, 1]
-                        t -= mm * hc
-                    if r < 3:
-                        sigma_s[i, r, r] = s * t
-                    elif r == 3:
-                        sigma_s[i, 0, 1] = s * t
-                        sigma_s[i, 1, 0] = s * t
-                    elif r == 4:
-                        sigma_s[i, 0, 2] = s * t
-                        sigma_s[i, 2, 0] = s * t
-                    else:
-                        sigma_s[i, 1, 2] = s * t
-                        sigma_s[i, 2, 1] = s * t
+            t = motion_sums_2d(i, bond_xi, length, u, offsets, bond_j, wv, intact, 2)
+        else:
+            t = motion_sums_2d(i, bond_xi, length, u, offsets, bond_j, wv, intact, 0)
+        fgrad[i, 0, 0], fgrad[i, 0, 1], fgrad[i, 1, 0], fgrad[i, 1, 1] = t[0], t[1], t[2], t[3]
+        acc[3], acc[4], acc[5] = t[4], t[5], t[6]
+        return
+    if mode == 2:
+        t3 = motion_sums_3d(i, bond_xi, length, u, offsets, bond_j, wv, intact, 2)
+    else:
+        t3 = motion_sums_3d(i, bond_xi, length, u, offsets, bond_j, wv, intact, 0)
+    for a in range(3):
+        for b in range(3):
+            fgrad[i, a, b] = t3[3 * a + b]
+    for c in range(6):
+        acc[6 + c] = t3[9 + c]
+
+
+@njit(inline="always")
+def _geometry(
+    i, bond_xi, length, u, offsets, bond_j, wv, intact, det_ref, degenerate_ratio, mode,
+    kinv, fgrad, omega0, active, acc,
+):  # fmt: skip
+    """The sums of point i that depend on the bonds alone (omega0, K, LBSCMM's M), K^-1
+    and the degenerate test: False (and F = I, K^-1 = 0) for a degenerate family."""
+    d = u.shape[1]
+    m = 3 if d == 2 else 6
+    if d == 2:
+        if mode == 2:
+            t = shape_sums_2d(i, bond_xi, length, offsets, wv, intact, 2)
+        else:
+            t = shape_sums_2d(i, bond_xi, length, offsets, wv, intact, 0)
+        om = t[0]
+        acc[0], acc[1], acc[2] = t[1], t[2], t[3]
+        acc[9], acc[10], acc[11] = t[4], t[5], t[6]
+        acc[13], acc[14], acc[17] = t[7], t[8], t[9]
+    else:
+        t3 = shape_sums_3d(i, bond_xi, offsets, wv, intact)
+        om = t3[0]
+        for c in range(6):
+            acc[c] = t3[1 + c]
+        if mode == 2:
+            lbscmm_matrix_3d(i, bond_xi, length, offsets, wv, intact, acc, 3 * m)
+    omega0[i] = om
+    # K from its symmetric components, inverted in place
+    for a in range(d):
+        kinv[i, a, a] = acc[a]
+    kinv[i, 0, 1] = acc[d]
+    kinv[i, 1, 0] = acc[d]
+    if d == 3:
+        kinv[i, 0, 2] = acc[4]
+        kinv[i, 2, 0] = acc[4]
+        kinv[i, 1, 2] = acc[5]
+        kinv[i, 2, 1] = acc[5]
+    det = invert_in_place(kinv, i, d)
+    if not (det > degenerate_ratio * det_ref[i]) or not (det > 0.0):
+        active[i] = 0.0
         for a in range(d):
-            fgrad[i, a, a] += 1.0
+            for b in range(d):
+                kinv[i, a, b] = 0.0
+                fgrad[i, a, b] = 1.0 if a == b else 0.0
+        return False
+    return True
+
+
+@njit(inline="always")
+def _finish(i, d, mode, stab, kinv, fgrad, sigma_s, acc):
+    """F = I + N K^-1 and (LBSCMM) sigma^s of point i from its sums."""
+    m = 3 if d == 2 else 6
+    # H = N' K^-1 row by row, then F = I + H (the sym. part of H kept for sigma^s)
+    for a in range(d):
+        r0 = fgrad[i, a, 0]
+        r1 = fgrad[i, a, 1]
+        r2 = fgrad[i, a, 2] if d == 3 else 0.0
+        for b in range(d):
+            v = r0 * kinv[i, 0, b] + r1 * kinv[i, 1, b]
+            if d == 3:
+                v += r2 * kinv[i, 2, b]
+            fgrad[i, a, b] = v
+    if mode == 2:
+        s = stab[i]
+        # xi^T H xi = sum_m h_m p_m with h = (H_aa, H_ab + H_ba for a < b)
+        if d == 2:
+            h0 = fgrad[i, 0, 0]
+            h1 = fgrad[i, 1, 1]
+            h2 = fgrad[i, 0, 1] + fgrad[i, 1, 0]
+            m00, m01, m02 = acc[9], acc[10], acc[11]
+            m11, m12, m22 = acc[13], acc[14], acc[17]
+            t0 = acc[3] - (m00 * h0 + m01 * h1 + m02 * h2)
+            t1 = acc[4] - (m01 * h0 + m11 * h1 + m12 * h2)
+            t2 = acc[5] - (m02 * h0 + m12 * h1 + m22 * h2)
+            sigma_s[i, 0, 0] = s * t0
+            sigma_s[i, 1, 1] = s * t1
+            sigma_s[i, 0, 1] = s * t2
+            sigma_s[i, 1, 0] = s * t2
+        else:
+            base = 3 * m
+            for r in range(6):
+                t = acc[6 + r]
+                for c in range(6):
+                    mm = acc[base + r * 6 + c] if c >= r else acc[base + c * 6 + r]
+                    if c < 3:
+                        hc = fgrad[i, c, c]
+                    elif c == 3:
+                        hc = fgrad[i, 0, 1] + fgrad[i, 1, 0]
+                    elif c == 4:
+                        hc = fgrad[i, 0, 2] + fgrad[i, 2, 0]
+                    else:
+                        hc = fgrad[i, 1, 2] + fgrad[i, 2, 1]
+                    t -= mm * hc
+                if r < 3:
+                    sigma_s[i, r, r] = s * t
+                elif r == 3:
+                    sigma_s[i, 0, 1] = s * t
+                    sigma_s[i, 1, 0] = s * t
+                elif r == 4:
+                    sigma_s[i, 0, 2] = s * t
+                    sigma_s[i, 2, 0] = s * t
+                else:
+                    sigma_s[i, 1, 2] = s * t
+                    sigma_s[i, 2, 1] = s * t
+    for a in range(d):
+        fgrad[i, a, a] += 1.0
 
 
 @_exact
