@@ -142,3 +142,22 @@ def test_families_without_the_capability_keep_the_analytic_bound() -> None:
     assert not model.spectral_applies
     assert np.array_equal(model.stiffness_bound(), model.force_model.stiffness_bound())
     assert "_spectral_cache" not in model.__dict__
+
+
+@pytest.mark.parametrize("family", ["correspondence", "lps"])
+def test_a_correspondence_family_that_can_lose_bonds_keeps_the_analytic_bound(family):
+    """Random bond loss raises a correspondence family's largest eigenvalue above the
+    set-up estimate, so with a law that can break bonds the analytic bound stays; LPS
+    (which only softens) keeps the estimate either way."""
+    from peridynamics.damage.critical_stretch import CriticalStretch
+
+    cloud = rectangle((8e-3, 8e-3), 1e-3, thickness=1e-3)
+    bonds = build_bonds(cloud, 3.015e-3)
+    mat = MATERIALS[family]()
+    intact = Evaluator(cloud, bonds, mat, surface_correction=True)
+    breaking = Evaluator(cloud, bonds, mat, CriticalStretch(1e-3), surface_correction=True)
+    assert intact.spectral_applies
+    assert breaking.spectral_applies is (family == "lps")
+    analytic = breaking.force_model.stiffness_bound()
+    if family == "correspondence":
+        np.testing.assert_array_equal(breaking.stiffness_bound(), analytic)

@@ -31,10 +31,14 @@ def _automatic_step_with_damping(deck: Deck) -> bool:
 
 
 def _spectral_family(deck: Deck) -> bool:
-    """A single-body LPS or correspondence deck: its bound comes from the Lanczos
-    estimate (:mod:`peridynamics.evaluation.spectral`)."""
+    """A single-body LPS deck, or correspondence without damage: its bound comes from
+    the Lanczos estimate (:mod:`peridynamics.evaluation.spectral`)."""
     model = getattr(deck.material, "model", None)
-    return model in ("lps", "correspondence") and not getattr(deck, "bodies", None)
+    if getattr(deck, "bodies", None) or model not in ("lps", "correspondence"):
+        return False
+    damage = getattr(deck, "damage", None)
+    breaks = damage is not None and getattr(damage, "model", "none") != "none"
+    return model == "lps" or not breaks
 
 
 def _spectral_explicit_step(deck: Deck) -> bool:

@@ -244,13 +244,22 @@ class Measures:
     @property
     def spectral_applies(self) -> bool:
         """True when the stable step and :meth:`stiffness_bound` use the Lanczos estimate
-        (the family declares ``spectral_bound``, one dof group, not switched off)."""
+        (the family declares ``spectral_bound``, one dof group, not switched off; for a
+        family that ``stiffens_with_damage``, only while no bond can break)."""
         fm = self.force_model
         return (
             self.use_spectral_bound
             and bool(getattr(fm, "spectral_bound", False))
             and len(fm.dofs()) == 1
+            and not (getattr(fm, "stiffens_with_damage", False) and self._bonds_can_break())
         )
+
+    def _bonds_can_break(self) -> bool:
+        """False only for a critical-stretch law whose thresholds are all infinite (no
+        damage) on every rank; any other law may break bonds."""
+        thresholds = self.damage_law.stretch_thresholds()
+        here = thresholds is None or not bool(np.all(np.isinf(thresholds[0])))
+        return bool(self.comm.any(here))
 
     def spectral_estimate(self, metric: str) -> SpectralEstimate:
         """The Lanczos estimate (:func:`~peridynamics.evaluation.spectral.largest_eigenvalue`)

@@ -113,6 +113,10 @@ class ForceModel(ABC):
     #: largest eigenvalue of the linearised force (:mod:`peridynamics.evaluation.spectral`);
     #: for families with one dof group whose analytic bound is loose
     spectral_bound: ClassVar[bool] = False
+    #: the largest eigenvalue can grow as bonds break (a correspondence family whose
+    #: shape tensor loses bonds): the set-up estimate of ``spectral_bound`` then holds
+    #: only while no bond can break
+    stiffens_with_damage: ClassVar[bool] = False
     cloud: PointCloud
     bonds: Bonds
 
