@@ -24,7 +24,7 @@ Re-use when bonds break (the stiffness loses a few pair matrices, K = K0 - dK):
   ``(K0 - E D E^T)^-1 = K0^-1 + Z (I - D Z_S)^-1 D E^T K0^-1`` with ``Z = K0^-1 E``
   (E the unit columns of S, D = dK restricted to S): each newly touched dof costs one
   solve with the old factors (with PARDISO, a block of solves: the points next to the
-  newly touched ones are solved for in advance, :data:`PREFETCH_POINTS`), each event a
+  newly touched ones are solved for in advance, :data:`PREFETCH_DOFS`), each event a
   rank-p update of the capacitance inverse and one product with Z. K is refactored
   when the correction has cost as much as the factorisation, or |S| reaches a memory
   budget (:class:`UpdatedDirect`).
