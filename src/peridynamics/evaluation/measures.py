@@ -23,7 +23,7 @@ from peridynamics.state import State
 if TYPE_CHECKING:
     from peridynamics.bonds.bonds import Bonds
     from peridynamics.communicator import Communicator
-    from peridynamics.families.base import ForceModel
+    from peridynamics.families.base import DamageLaw, ForceModel
     from peridynamics.geometry.cloud import PointCloud
 
 
@@ -36,6 +36,7 @@ class Measures:
     bonds: Bonds
     material: Any
     force_model: ForceModel
+    damage_law: DamageLaw
     comm: Communicator
     rigid: Any
     density: NDArray[np.float64]
