@@ -37,6 +37,7 @@ from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.geometry.cloud import PointCloud
+from peridynamics.kernels import bond_based
 
 if TYPE_CHECKING:
     from peridynamics.state import State
@@ -183,8 +184,6 @@ class ForceModel(ABC):
     def bond_stretch(self, state: State) -> NDArray[np.float64]:
         """Stretch of every directed bond (n_bonds,) at ``state.u``: the quantity the
         critical-stretch criterion compares with s0 (default: |xi + eta|/|xi| - 1)."""
-        from peridynamics.kernels import bond_based
-
         b = self.bonds
         out = np.empty(b.n_bonds)
         bond_based.bond_stretch(self.cloud.x, state.u, b.offsets, b.bond_j, out)
@@ -223,6 +222,24 @@ class ForceModel(ABC):
         """Local damage phi (n,) of a model whose bonds are not all in ``bonds``
         (interfaces between bodies); None (the default): the evaluator's, from ``bonds``."""
         return None
+
+
+class LargestStretchPass:
+    """Mixin of a force model whose force pass does not track the largest stretch (its
+    family loop vectorises without that max): :meth:`update_max_stretch` is the pass of
+    :func:`peridynamics.kernels.bond_based.largest_stretch` over the bonds of the
+    reference positions ``cloud.x``."""
+
+    cloud: PointCloud
+    bonds: Bonds
+
+    def update_max_stretch(self, state: State, above: float = 0.0) -> None:
+        """``state.max_stretch`` (n,): the largest stretch r/L - 1 of an intact bond of
+        each point where it exceeds ``above``, 0 elsewhere."""
+        b = self.bonds
+        bond_based.largest_stretch(
+            self.cloud.x, state.u, b.offsets, b.bond_j, state.intact, above, state.max_stretch
+        )
 
 
 class DamageLaw(ABC):

@@ -39,9 +39,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds
-from peridynamics.families.base import FieldSpec, ForceModel
+from peridynamics.families.base import FieldSpec, ForceModel, LargestStretchPass
 from peridynamics.geometry.cloud import PointCloud
-from peridynamics.kernels import bond_based
 from peridynamics.kernels import correspondence as kernels
 from peridynamics.kernels import correspondence_force as force_kernels
 
@@ -78,7 +77,7 @@ class CorrespondenceConstants(Protocol):
     def horizon_volume(self, dim: int, horizon: float, thickness: float) -> float: ...
 
 
-class CorrespondenceForceModel(ForceModel):
+class CorrespondenceForceModel(LargestStretchPass, ForceModel):
     """Correspondence force model over a directed CSR bond list.
 
     Parameters
@@ -266,15 +265,6 @@ class CorrespondenceForceModel(ForceModel):
             self._tensor(state, "force_tensor"), self._tensor(state, "deformation_gradient"),
             state["stabilization"], self.mode, state.force,
         )  # fmt: skip
-
-    def update_max_stretch(self, state: State, above: float = 0.0) -> None:
-        """``state.max_stretch`` (n,): the largest stretch r/L - 1 of an intact bond of
-        each point where it exceeds ``above``, 0 elsewhere (the pass of
-        :func:`peridynamics.kernels.bond_based.largest_stretch`)."""
-        b = self.bonds
-        bond_based.largest_stretch(
-            self.cloud.x, state.u, b.offsets, b.bond_j, state.intact, above, state.max_stretch
-        )
 
     def energy_density(self, state: State) -> NDArray[np.float64]:
         """W_i = active_i W(F_i) + stabilisation energy (J/m^3), shape (n,), recomputed

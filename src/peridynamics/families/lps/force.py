@@ -62,11 +62,10 @@ import scipy.sparse as sp
 from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds
-from peridynamics.families.base import FieldSpec, ForceModel
+from peridynamics.families.base import FieldSpec, ForceModel, LargestStretchPass
 from peridynamics.families.calibration import calibrate_influence
 from peridynamics.families.lps.tangent import lps_tangent
 from peridynamics.geometry.cloud import PointCloud
-from peridynamics.kernels import bond_based
 from peridynamics.kernels import lps as kernels
 
 if TYPE_CHECKING:
@@ -83,7 +82,7 @@ class LPSConstants(Protocol):
     def coefficients(self, dim: int, plane: str | None) -> Any: ...
 
 
-class LPSForceModel(ForceModel):
+class LPSForceModel(LargestStretchPass, ForceModel):
     """Linear peridynamic solid over a directed CSR bond list.
 
     Parameters
@@ -204,15 +203,6 @@ class LPSForceModel(ForceModel):
             self.omega_volume_far, state.intact, state["dilatation"], self.dilatation_coef,
             self.extension_coef, state.force,
         )  # fmt: skip
-
-    def update_max_stretch(self, state: State, above: float = 0.0) -> None:
-        """``state.max_stretch`` (n,): the largest stretch r/L - 1 of an intact bond of
-        each point where it exceeds ``above``, 0 elsewhere (the pass of
-        :func:`peridynamics.kernels.bond_based.largest_stretch`)."""
-        b = self.bonds
-        bond_based.largest_stretch(
-            self.cloud.x, state.u, b.offsets, b.bond_j, state.intact, above, state.max_stretch
-        )
 
     def energy_density(self, state: State) -> NDArray[np.float64]:
         """W_i = k_theta theta_i^2 / 2 + (alpha / 2 m_i) sum_k mu_k wv_k e_k^2 (J/m^3),

@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.bonds.surface import energy_correction_factors, moment_correction_factors
 from peridynamics.communicator import active_comm
-from peridynamics.families.base import DamageLaw, ForceModel, FusedStep
+from peridynamics.families.base import DamageLaw, ForceModel, FusedStep, LargestStretchPass
 from peridynamics.families.calibration import calibrate_influence
 from peridynamics.families.pmb.tangent import pmb_tangent
 from peridynamics.geometry.cloud import PointCloud
@@ -43,7 +43,7 @@ class PMBConstants(Protocol):
     ) -> float: ...
 
 
-class PMBForceModel(ForceModel):
+class PMBForceModel(LargestStretchPass, ForceModel):
     """Prototype microelastic brittle bonds: f_ij = c s mu n, n = (xi + eta) / norm(xi + eta).
 
     Parameters
@@ -159,15 +159,6 @@ class PMBForceModel(ForceModel):
             self.cloud.x, state.u, b.offsets, b.bond_j, self.stiffness, state.intact,
             self._never, self._never, state.force, self._broken_scratch,
         )  # fmt: skip
-
-    def update_max_stretch(self, state: State, above: float = 0.0) -> None:
-        """``state.max_stretch`` (n,): the largest stretch of an intact bond of each point
-        where it exceeds ``above``, 0 elsewhere; the force pass does not track it (its
-        family loop vectorises without that max), the solvers' checks call this."""
-        b = self.bonds
-        bond_based.largest_stretch(
-            self.cloud.x, state.u, b.offsets, b.bond_j, state.intact, above, state.max_stretch
-        )
 
     def force_and_break(
         self, state: State, point_s0: NDArray[np.float64], family_s0_min: NDArray[np.float64]
