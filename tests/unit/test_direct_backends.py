@@ -109,3 +109,14 @@ def test_pardiso_refuses_a_singular_matrix() -> None:
     free, _, _ = _grid(6, ground=0.0)  # a free-floating network: a rigid translation
     with pytest.raises(lin.SingularSystem):
         lin.DirectSolver(free, backend="pardiso")
+
+
+def test_an_unknown_direct_solver_in_the_environment_is_a_clean_deck_error(tmp_path):
+    """PERIDYNAMICS_DIRECT_SOLVER=foo: exit 2 naming the variable, no traceback."""
+    from tests.helpers import EXAMPLES, cli
+
+    deck = EXAMPLES / "micropolar" / "cantilever.yaml"
+    r = cli("run", deck, "--set", "discretisation.spacing=0.02", "-o", tmp_path / "out",
+            env={"PERIDYNAMICS_DIRECT_SOLVER": "foo"})  # fmt: skip
+    assert r.returncode == 2, r.stdout + r.stderr
+    assert "PERIDYNAMICS_DIRECT_SOLVER='foo'" in r.stderr and "Traceback" not in r.stderr

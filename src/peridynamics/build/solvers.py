@@ -142,10 +142,15 @@ def build_static(
 ) -> Solver:
     """The implicit static solver from ``solver: {type: static, ...}`` (every key of the
     section is a keyword of :class:`~peridynamics.solvers.static.StaticSolver`)."""
+    from peridynamics.solvers.direct import direct_backend
     from peridynamics.solvers.static import StaticSolver
 
     if init:
         raise ValueError("initial velocities have no meaning in a static run")
+    try:  # the environment's choice of direct solver, checked before the run
+        direct_backend()
+    except ValueError as exc:
+        raise SetupError("solver.linear_solver", str(exc)) from None
     return StaticSolver(model, constraints=kin, **deck.solver.model_dump(exclude={"type"}))
 
 

@@ -56,7 +56,9 @@ def direct_backend(backend: str = "auto") -> str:
     if backend == "auto":
         return "pardiso" if pardiso.available() else "superlu"
     if backend not in ("pardiso", "superlu"):
-        raise ValueError(f"direct backend must be pardiso or superlu, got {backend!r}")
+        raise ValueError(
+            f"PERIDYNAMICS_DIRECT_SOLVER={backend!r}: use pardiso, superlu or auto (or unset it)"
+        )
     return backend
 
 
