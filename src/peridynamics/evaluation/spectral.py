@@ -11,7 +11,7 @@ its bound with the estimate made here.
 
 **Operator.** At the reference state (u = 0, the bonds as built) the stiffness
 K = -d(V f)/du (N/m) is applied to a vector by a one-sided difference of the force
-model's pure force pass,
+model's pure force pass::
 
     K v ~ -V (f(h v / |v|_inf) - f(0)) |v|_inf / h,   h = STEP * spacing,
 

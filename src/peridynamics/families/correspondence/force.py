@@ -253,7 +253,7 @@ class CorrespondenceForceModel(LargestStretchPass, ForceModel):
         """Correspondence force density (N/m^3) into ``state.force``; reads the fields of
         the last :meth:`prepass`. Pure: never breaks a bond. The largest stretch is not
         tracked here (the family loop vectorises without that max):
-        :meth:`update_max_stretch`."""
+        ``update_max_stretch`` (:class:`~peridynamics.families.base.LargestStretchPass`)."""
         if "force_tensor" not in state:
             raise KeyError(
                 "state has no 'force_tensor' field: call CorrespondenceForceModel.prepass("

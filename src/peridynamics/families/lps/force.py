@@ -191,7 +191,7 @@ class LPSForceModel(LargestStretchPass, ForceModel):
         """LPS force density (N/m^3) into ``state.force``; reads ``state["dilatation"]``
         of the last :meth:`prepass`. Pure: never breaks a bond. The largest stretch is
         not tracked here (the family loop vectorises without that max):
-        :meth:`update_max_stretch`."""
+        ``update_max_stretch`` (:class:`~peridynamics.families.base.LargestStretchPass`)."""
         if "dilatation" not in state:
             raise KeyError(
                 "state has no 'dilatation' field: call LPSForceModel.prepass(state) before "

@@ -150,7 +150,8 @@ class PMBForceModel(LargestStretchPass, ForceModel):
     # -- forces -------------------------------------------------------------------------
     def force(self, state: State) -> None:
         """Bond force density (N/m^3) into ``state.force``; never breaks a bond. The
-        largest stretch is not tracked here: :meth:`update_max_stretch`."""
+        largest stretch is not tracked here: ``update_max_stretch``
+        (:class:`~peridynamics.families.base.LargestStretchPass`)."""
         if self.precision == "float32":
             self._force_f32(state, self._never, self._never)
             return
