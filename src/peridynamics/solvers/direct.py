@@ -51,14 +51,18 @@ def _scaled(k: sp.csr_matrix, d: NDArray[np.float64]) -> sp.csr_matrix:
 def direct_backend(backend: str = "auto") -> str:
     """``pardiso`` or ``superlu``: ``auto`` takes ``PERIDYNAMICS_DIRECT_SOLVER`` when
     set, else PARDISO when MKL loads."""
+    given = backend
     if backend == "auto":
         backend = os.environ.get("PERIDYNAMICS_DIRECT_SOLVER", "auto").strip().lower()
     if backend == "auto":
         return "pardiso" if pardiso.available() else "superlu"
     if backend not in ("pardiso", "superlu"):
-        raise ValueError(
-            f"PERIDYNAMICS_DIRECT_SOLVER={backend!r}: use pardiso, superlu or auto (or unset it)"
-        )
+        if given == "auto":  # from the environment
+            raise ValueError(
+                f"PERIDYNAMICS_DIRECT_SOLVER={backend!r}: use pardiso, superlu or auto "
+                "(or unset it)"
+            )
+        raise ValueError(f"direct backend must be pardiso or superlu, got {backend!r}")
     return backend
 
 
