@@ -137,7 +137,7 @@ def prepass(
         _finish(i, d, mode, stab, kinv, fgrad, sigma_s, acc)
 
 
-@njit(inline="always")
+@njit
 def _motion(i, bond_xi, length, u, offsets, bond_j, wv, intact, mode, fgrad, acc):
     """The sums that depend on ``u`` into ``fgrad[i]`` (N) and ``acc`` (LBSCMM's q)."""
     d = u.shape[1]
@@ -160,7 +160,7 @@ def _motion(i, bond_xi, length, u, offsets, bond_j, wv, intact, mode, fgrad, acc
         acc[6 + c] = t3[9 + c]
 
 
-@njit(inline="always")
+@njit
 def _geometry(
     i, bond_xi, length, u, offsets, bond_j, wv, intact, det_ref, degenerate_ratio, mode,
     kinv, fgrad, omega0, active, acc,
@@ -207,7 +207,7 @@ def _geometry(
     return True
 
 
-@njit(inline="always")
+@njit
 def _finish(i, d, mode, stab, kinv, fgrad, sigma_s, acc):
     """F = I + N K^-1 and (LBSCMM) sigma^s of point i from its sums."""
     m = 3 if d == 2 else 6

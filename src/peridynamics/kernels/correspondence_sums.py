@@ -14,7 +14,7 @@ For point i and its bonds k (weight ``w = wv_k mu_k``, reference bond ``xi``,
 * LBSCMM only (``mode == 2``): ``q = sum (w / L^3) (xi . eta) p`` and the symmetric
   matrix ``M = sum (w / L^3) p (x) p`` of the products ``p = (xi_a xi_b)_{a <= b}``.
 
-The functions are inlined into :func:`peridynamics.kernels.correspondence.prepass` with
+The functions are called from :func:`peridynamics.kernels.correspondence.prepass` with
 ``mode`` a constant, so a run without LBSCMM does not compute its sums.
 """
 
@@ -24,7 +24,7 @@ import numpy as np
 from numba import njit
 
 
-@njit(inline="always")
+@njit
 def shape_sums_2d(i, bond_xi, length, offsets, wv, intact, mode):
     """2-D sums of point i that depend on the bonds alone: (omega0, K00, K11, K01, M00,
     M01, M02, M11, M12, M22) with the components of p ordered xx, yy, xy (M zero unless
@@ -56,7 +56,7 @@ def shape_sums_2d(i, bond_xi, length, offsets, wv, intact, mode):
     return om, k00, k11, k01, m00, m01, m02, m11, m12, m22
 
 
-@njit(inline="always")
+@njit
 def shape_sums_3d(i, bond_xi, offsets, wv, intact):
     """3-D sums of point i that depend on the bonds alone, without M: (omega0, K00, K11,
     K22, K01, K02, K12)."""
@@ -78,7 +78,7 @@ def shape_sums_3d(i, bond_xi, offsets, wv, intact):
     return om, k00, k11, k22, k01, k02, k12
 
 
-@njit(inline="always")
+@njit
 def lbscmm_matrix_3d(i, bond_xi, length, offsets, wv, intact, acc, base):
     """3-D LBSCMM matrix M (6 x 6, symmetric) of point i: its upper triangle into
     ``acc[base + r * 6 + c]``, c >= r."""
@@ -133,7 +133,7 @@ def lbscmm_matrix_3d(i, bond_xi, length, offsets, wv, intact, acc, base):
             t += 1
 
 
-@njit(inline="always")
+@njit
 def motion_sums_2d(i, bond_xi, length, u, offsets, bond_j, wv, intact, mode):
     """2-D sums of point i that depend on the displacement: (N00, N01, N10, N11, q0, q1,
     q2) (q zero unless ``mode == 2``)."""
@@ -161,7 +161,7 @@ def motion_sums_2d(i, bond_xi, length, u, offsets, bond_j, wv, intact, mode):
     return n00, n01, n10, n11, q0, q1, q2
 
 
-@njit(inline="always")
+@njit
 def motion_sums_3d(i, bond_xi, length, u, offsets, bond_j, wv, intact, mode):
     """3-D sums of point i that depend on the displacement: (N00 .. N22, q0 .. q5) (q
     zero unless ``mode == 2``)."""
