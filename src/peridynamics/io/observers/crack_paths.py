@@ -144,7 +144,11 @@ class CrackPaths(Observer):
             nu = fixed_poisson_ratio(m.dim, m.cloud.plane if m.dim == 2 else None)
         ratio = effective_modulus_ratio(m)
         plane = m.cloud.plane if m.dim == 2 and m.cloud.plane else "3d"
-        c_r = rayleigh_speed(ratio * mat.youngs_modulus, nu, mat.density, plane, "exact")
+        # a per-point density (or modulus) array: its median, the one value the
+        # Rayleigh speed of a single material takes
+        rho = float(np.median(np.asarray(mat.density, dtype=float)))
+        young = float(np.median(np.asarray(mat.youngs_modulus, dtype=float)))
+        c_r = rayleigh_speed(ratio * young, nu, rho, plane, "exact")
         t = np.asarray(r["crack_path_time_s"])
         out: dict[str, Any] = {}
         # the last record is usually of this very state: reuse its paths
