@@ -19,23 +19,42 @@ from peridynamics.kernels.cache import configure as _configure_numba_cache
 _configure_numba_cache()  # before any kernel module imports Numba: sets NUMBA_CACHE_DIR
 
 if TYPE_CHECKING:
+    from peridynamics.api.batch import SweepResult, ensemble, sweep
+    from peridynamics.api.deck import Deck
+    from peridynamics.api.result import Result
+    from peridynamics.api.simulation import Callback, Simulation
+    from peridynamics.app.run import RunInterrupted
     from peridynamics.bonds import Bonds, build_bonds
+    from peridynamics.build.errors import SetupError
     from peridynamics.damage import CriticalStretch
+    from peridynamics.deck.errors import DeckError
     from peridynamics.evaluation import Evaluator
     from peridynamics.families.pmb import BondBasedMaterial
     from peridynamics.geometry import PointCloud
     from peridynamics.solvers import ExplicitSolver, State
+    from peridynamics.solvers.explicit import SimulationUnstable
 
 #: public name -> the module it lives in
 _LAZY = {
     "BondBasedMaterial": "peridynamics.families.pmb",
     "Bonds": "peridynamics.bonds",
+    "Callback": "peridynamics.api.simulation",
     "CriticalStretch": "peridynamics.damage",
+    "Deck": "peridynamics.api.deck",
+    "DeckError": "peridynamics.deck.errors",
     "ExplicitSolver": "peridynamics.solvers",
     "Evaluator": "peridynamics.evaluation",
     "PointCloud": "peridynamics.geometry",
+    "Result": "peridynamics.api.result",
+    "RunInterrupted": "peridynamics.app.run",
+    "SetupError": "peridynamics.build.errors",
+    "Simulation": "peridynamics.api.simulation",
+    "SimulationUnstable": "peridynamics.solvers.explicit",
     "State": "peridynamics.solvers",
+    "SweepResult": "peridynamics.api.batch",
     "build_bonds": "peridynamics.bonds",
+    "ensemble": "peridynamics.api.batch",
+    "sweep": "peridynamics.api.batch",
 }
 
 
@@ -66,11 +85,22 @@ def __dir__() -> list[str]:
 __all__ = [
     "BondBasedMaterial",
     "Bonds",
+    "Callback",
     "CriticalStretch",
-    "ExplicitSolver",
+    "Deck",
+    "DeckError",
     "Evaluator",
+    "ExplicitSolver",
     "PointCloud",
+    "Result",
+    "RunInterrupted",
+    "SetupError",
+    "Simulation",
+    "SimulationUnstable",
     "State",
+    "SweepResult",
     "__version__",
     "build_bonds",
+    "ensemble",
+    "sweep",
 ]

@@ -52,6 +52,14 @@ class State:
 
     Further fields (for example ``sed_level``, a history field of SED softening, or a
     model's rotations) are reached with ``state["name"]``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import peridynamics as pd
+    >>> s = pd.State(u=np.zeros((4, 2)), v=np.zeros((4, 2)))
+    >>> s["u"].shape, s.t, s.step
+    ((4, 2), 0.0, 0)
     """
 
     __slots__ = ("t", "step", "bonds_broken", "phase", "fields")

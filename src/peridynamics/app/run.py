@@ -56,6 +56,12 @@ class RunLoop:
     global_cloud: PointCloud | None
     #: the signal that stopped the run (SIGINT unless another was received)
     _stop_signal: int = int(signal.SIGINT)
+    #: observers added to the deck's (the Python API's callbacks; they run first)
+    extra_observers: tuple[Observer, ...] = ()
+    #: where a new run starts (``None``: ``solver.init()``; the Python API's ``step``)
+    start_state: State | None = None
+    #: the state of the run in progress, then its last state (``None`` before a run)
+    state: State | None = None
 
     def fingerprint(self) -> str:
         """Hash of what a checkpoint must match (:meth:`SimulationSetup.fingerprint`)."""
@@ -120,8 +126,9 @@ class RunLoop:
             )
         else:
             finished = False
-            state = solver.init()
+            state = self.start_state if self.start_state is not None else solver.init()
             records = new_records(self.deck.output)
+        self.state = state
         every = int(checkpoint_every or 0)
         records["checkpoint_every"] = every
         ctx = self._context(out, records, finished)
@@ -202,6 +209,7 @@ class RunLoop:
     def _observers(self, run: RunOptions, obs_model: Any, every: int) -> list[Observer]:
         """The observers of this run (rank 0's under MPI)."""
         observers = observers_for(run, obs_model, getattr(self.solver, "step_events", ()), every)
+        observers = [*self.extra_observers, *observers]  # Checkpoints stays last
         if self.session is not None:  # the crash hook of a decomposed run is _crash_hook
             observers = [ob for ob in observers if not isinstance(ob, CrashAtStep)]
         return observers
@@ -410,7 +418,20 @@ class RunInterrupted(KeyboardInterrupt):
     """The run stopped at a user's or a batch system's request (Ctrl-C, SIGTERM, SIGHUP,
     SIGUSR1: ``signum``) after a complete step; the outputs and a summary with status
     ``"interrupted"`` are written, and ``checkpoint`` is the checkpoint of that state
-    (``None`` when checkpointing was off)."""
+    (``None`` when checkpointing was off).
+
+    Examples
+    --------
+    >>> import os, signal
+    >>> import peridynamics as pd
+    >>> sim = pd.Simulation(pd.Deck.example("bar_wave_1d"),
+    ...                     callbacks=[lambda s: os.kill(os.getpid(), signal.SIGINT)])
+    >>> try:
+    ...     sim.run()
+    ... except pd.RunInterrupted as stop:
+    ...     print(stop.step, stop.summary["status"])
+    1 interrupted
+    """
 
     def __init__(
         self,

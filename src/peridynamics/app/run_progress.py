@@ -131,5 +131,61 @@ class _RichBar:
         self.p.update(self.task, completed=step)
 
 
-def progress_bar(off: bool, total: int, start: int, label: str) -> _NoBar | _RichBar:
-    return _NoBar() if off else _RichBar(total, start, label)
+class _NotebookBar:
+    """The progress bar in a Jupyter notebook: an HTML ``<progress>`` element updated in
+    place (IPython's display handle; no widget library), at most four times a second."""
+
+    def __init__(self, total: int, start: int, label: str) -> None:
+        self.total, self.label, self.rate = max(int(total), 1), label, _RateColumn(start)
+        self.step, self.shown = start, 0.0
+        self.handle: Any = None
+
+    def _html(self) -> Any:
+        from html import escape
+
+        from IPython.display import HTML
+
+        return HTML(
+            f"<div><b>{escape(self.label)}</b> <progress value='{self.step}' "
+            f"max='{self.total}' style='width:40%'></progress> {self.step}/{self.total} "
+            f"steps, {escape(self.rate.text(self.step, self.total))}</div>"
+        )
+
+    def __enter__(self) -> _NotebookBar:
+        from IPython.display import display
+
+        self.handle = display(self._html(), display_id=True)
+        return self
+
+    def __exit__(self, *a: object) -> None:
+        if self.handle is not None:
+            self.handle.update(self._html())
+
+    def update(self, step: int) -> None:
+        self.step = step
+        now = time.perf_counter()
+        if self.handle is not None and now - self.shown >= 0.25:
+            self.shown = now
+            self.handle.update(self._html())
+
+
+def in_notebook() -> bool:
+    """True inside a Jupyter kernel (IPython's ZMQ shell)."""
+    import sys
+
+    if "IPython" not in sys.modules:
+        return False
+    from IPython import get_ipython
+
+    shell = get_ipython()
+    return shell is not None and type(shell).__name__ == "ZMQInteractiveShell"
+
+
+def progress_bar(
+    off: bool, total: int, start: int, label: str
+) -> _NoBar | _RichBar | _NotebookBar:
+    """The run's progress bar: none (``off``), an HTML bar in a Jupyter notebook, else
+    rich's bar in the terminal."""
+    if off:
+        return _NoBar()
+    return _NotebookBar(total, start, label) if in_notebook() else _RichBar(total, start, label)

@@ -182,10 +182,7 @@ def plot_sweep(
     varied = [k for k in keys if len({_label(r.get(k)) for r in rows}) > 1]
     if not rows or not varied or not columns:
         return False
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from peridynamics.io.plots import plt
 
     n_r, n_c = len(columns), len(varied)
     fig, axes = plt.subplots(

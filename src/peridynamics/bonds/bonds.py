@@ -89,6 +89,16 @@ class Bonds:
         delta (m).
     partial_volume : str
         Rule used for ``bond_volume`` (see :mod:`peridynamics.bonds.partial_volume`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import peridynamics as pd
+    >>> x = np.stack(np.meshgrid(np.arange(10), np.arange(5), indexing="ij"), -1).reshape(-1, 2) * 1e-3
+    >>> cloud = pd.PointCloud(x=x, volume=np.full(50, 1e-9), spacing=1e-3, plane="stress")
+    >>> bonds = pd.build_bonds(cloud, 3.015e-3)
+    >>> int(bonds.offsets[1] - bonds.offsets[0])  # the family of point 0 (a corner)
+    10
     """
 
     def __init__(
@@ -313,6 +323,16 @@ def build_bonds(
     kept: 5 bytes per directed bond. The other per-bond arrays are derived on first use
     (:class:`Bonds`), the same bits as the one-shot construction (k-d tree pairs, sort,
     whole-array expressions).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import peridynamics as pd
+    >>> x = np.stack(np.meshgrid(np.arange(10), np.arange(5), indexing="ij"), -1).reshape(-1, 2) * 1e-3
+    >>> cloud = pd.PointCloud(x=x, volume=np.full(50, 1e-9), spacing=1e-3, plane="stress")
+    >>> bonds = pd.build_bonds(cloud, horizon=3.015e-3)
+    >>> bonds.n_bonds
+    896
     """
     dx = cloud.spacing
     if not horizon >= dx * (1 - 1e-9):

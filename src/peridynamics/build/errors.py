@@ -13,6 +13,15 @@ class SetupError(ValueError):
         that asks for what cannot be built.
     message : str
         Why.
+
+    Examples
+    --------
+    >>> import peridynamics as pd
+    >>> deck = pd.Deck.example("bar_wave_1d", {"node_sets.gauge": {"point": [5.0]}})
+    >>> pd.Simulation(deck)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    peridynamics.build.errors.SetupError: node_sets.gauge: ...
     """
 
     def __init__(self, path: str, message: str) -> None:

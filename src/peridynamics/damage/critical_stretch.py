@@ -34,6 +34,12 @@ class CriticalStretch:
         Points whose bonds never break (any bond touching them is kept).
     weibull : WeibullField, optional
         Per-point heterogeneity: s0_i = s0 x factor_i (SED-PD (2021), eqs 25-26).
+
+    Examples
+    --------
+    >>> import peridynamics as pd
+    >>> pd.CriticalStretch(critical_stretch=0.01).critical_stretch
+    0.01
     """
 
     critical_stretch: float

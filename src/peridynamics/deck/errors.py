@@ -13,7 +13,17 @@ from peridynamics.deck.solver import SOLVER_SCHEMAS
 
 
 class DeckError(ValueError):
-    """An invalid deck. ``errors`` is a list of (key path, message)."""
+    """An invalid deck. ``errors`` is a list of (key path, message).
+
+    Examples
+    --------
+    >>> import peridynamics as pd
+    >>> try:
+    ...     pd.Deck.example("bar_wave_1d", {"material.density": -1.0})
+    ... except pd.DeckError as exc:
+    ...     print(exc.errors[0][0])
+    material.density
+    """
 
     def __init__(self, errors: list[tuple[str, str]]) -> None:
         self.errors = errors

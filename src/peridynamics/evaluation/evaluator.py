@@ -94,6 +94,17 @@ class Evaluator(Measures):
     rigid : RigidSystem, optional
         Rigid bodies (platens, strikers) touching the points through contact
         (:mod:`peridynamics.bodies.rigid`); their fields live in the State.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import peridynamics as pd
+    >>> x = np.stack(np.meshgrid(np.arange(10), np.arange(5), indexing="ij"), -1).reshape(-1, 2) * 1e-3
+    >>> cloud = pd.PointCloud(x=x, volume=np.full(50, 1e-9), spacing=1e-3, plane="stress")
+    >>> bonds = pd.build_bonds(cloud, 3.015e-3)
+    >>> model = pd.Evaluator(cloud, bonds, pd.BondBasedMaterial(70e9, 2700.0), pd.CriticalStretch(0.01))
+    >>> model.dim
+    2
     """
 
     cloud: PointCloud

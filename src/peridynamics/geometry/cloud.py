@@ -101,6 +101,15 @@ class PointCloud:
         Under MPI, the global id of every point of a rank's part of the body (owned
         points, then ghosts; :mod:`peridynamics.parallel.local`); ``None`` in a serial
         run (the ids are ``0 .. n_points - 1``). Random fields are drawn by global id.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import peridynamics as pd
+    >>> x = np.stack(np.meshgrid(np.arange(10), np.arange(5), indexing="ij"), -1).reshape(-1, 2) * 1e-3
+    >>> cloud = pd.PointCloud(x=x, volume=np.full(50, 1e-9), spacing=1e-3, plane="stress")
+    >>> cloud.n_points, cloud.dim
+    (50, 2)
     """
 
     x: NDArray[np.float64]

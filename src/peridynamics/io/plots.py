@@ -1,15 +1,41 @@
-"""Figures (matplotlib, Agg backend): damage maps and probe histories."""
+"""Figures (matplotlib): damage maps and probe histories.
+
+Figures are made as :class:`matplotlib.figure.Figure` objects without pyplot, so that
+writing them neither switches the user's backend (a notebook's inline figures) nor
+keeps figures in pyplot's global list; ``savefig`` renders with Agg.
+"""
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
-import matplotlib
+import numpy as np
+from matplotlib.figure import Figure
+from numpy.typing import NDArray
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-from numpy.typing import NDArray  # noqa: E402
+
+class _Figures:
+    """pyplot's ``subplots`` and ``close`` for figures that pyplot does not hold."""
+
+    @staticmethod
+    def subplots(
+        nrows: int = 1, ncols: int = 1, *, figsize: Any = None, **kw: Any
+    ) -> tuple[Figure, Any]:
+        fig = Figure(figsize=figsize)
+        return fig, fig.subplots(nrows, ncols, **kw)
+
+    @staticmethod
+    def close(fig: Figure) -> None:
+        """Nothing to release: pyplot never held the figure."""
+
+
+plt = _Figures()
+
+
+def save(fig: Figure, path: Path, dpi: int = 150) -> None:
+    """Write ``fig`` (PNG by the file's suffix)."""
+    fig.savefig(path, dpi=dpi)
 
 
 def plot_damage(
@@ -20,9 +46,32 @@ def plot_damage(
     title: str,
     outlines: list[NDArray] | None = None,
 ) -> None:
+    """Write :func:`damage_figure` to ``path``."""
+    save(damage_figure(x, damage, spacing, title, outlines), path)
+
+
+def damage_figure(
+    x: NDArray,
+    damage: NDArray,
+    spacing: float,
+    title: str,
+    outlines: list[NDArray] | None = None,
+) -> Figure:
     """Scatter of local damage over the reference configuration (2-D; 3-D: max over z).
-    ``outlines``: closed polygons (k, 2) drawn on top (rigid bodies, in their final
-    position)."""
+
+    Parameters
+    ----------
+    x : ndarray, shape (n, dim)
+        Reference positions (m), dim 2 or 3.
+    damage : ndarray, shape (n,)
+        Point damage (0 to 1).
+    spacing : float
+        Grid spacing (m) (3-D: the columns whose largest damage is drawn).
+    title : str
+        Figure title.
+    outlines : list of ndarray (k, 2), optional
+        Closed polygons drawn on top (rigid bodies, in their final position).
+    """
     if x.shape[1] == 3:  # project: largest damage along z for each (x, y) column
         keys = np.floor((x[:, :2] - x[:, :2].min(axis=0)) / spacing + 0.5).astype(np.int64)
         _, inv = np.unique(keys, axis=0, return_inverse=True)
@@ -46,8 +95,7 @@ def plot_damage(
     ax.set_title(title)
     fig.colorbar(sc, ax=ax, label="damage", shrink=0.8)
     fig.tight_layout()
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
+    return fig
 
 
 def plot_histories(
@@ -58,6 +106,17 @@ def plot_histories(
     xlabel: str = "time (us)",
     xscale: float = 1e6,
 ) -> None:
+    """Write :func:`histories_figure` to ``path``."""
+    save(histories_figure(time, series, title, xlabel, xscale), path)
+
+
+def histories_figure(
+    time: Any,
+    series: dict[str, Any],
+    title: str,
+    xlabel: str = "time (us)",
+    xscale: float = 1e6,
+) -> Figure:
     """One panel per series against time (plotted in us unless told otherwise)."""
     n = max(1, len(series))
     fig, axes = plt.subplots(n, 1, figsize=(8, 2.4 * n + 0.6), sharex=True, squeeze=False)
@@ -69,5 +128,4 @@ def plot_histories(
     axes[-1, 0].set_xlabel(xlabel)
     axes[0, 0].set_title(title)
     fig.tight_layout()
-    fig.savefig(path, dpi=150)
-    plt.close(fig)
+    return fig

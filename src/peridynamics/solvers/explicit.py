@@ -40,6 +40,17 @@ class SimulationUnstable(RuntimeError):
     """Raised when the solution becomes non-finite or blows up.
 
     Attributes: step, time (s), point (index), coordinates (m), last_good (State).
+
+    Examples
+    --------
+    >>> import peridynamics as pd
+    >>> deck = pd.Deck.example("bar_wave_1d", {"solver.time_step": 1.0e-5,
+    ...     "solver.allow_unstable": True, "solver.end_time": 1.0e-2})
+    >>> try:
+    ...     pd.Simulation(deck).run()
+    ... except pd.SimulationUnstable as exc:
+    ...     print("unstable at step", exc.step)  # doctest: +ELLIPSIS
+    unstable at step ...
     """
 
     def __init__(
@@ -90,6 +101,21 @@ class ExplicitSolver:
         Length of the run (at most one): ``done`` is true after ``steps`` steps or once
         ``end_time`` (s) is reached; with neither the run ends only when the caller
         stops stepping.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import peridynamics as pd
+    >>> x = np.stack(np.meshgrid(np.arange(10), np.arange(5), indexing="ij"), -1).reshape(-1, 2) * 1e-3
+    >>> cloud = pd.PointCloud(x=x, volume=np.full(50, 1e-9), spacing=1e-3, plane="stress")
+    >>> model = pd.Evaluator(cloud, pd.build_bonds(cloud, 3.015e-3), pd.BondBasedMaterial(70e9, 2700.0))
+    >>> solver = pd.ExplicitSolver(model, safety_factor=0.8)
+    >>> state = solver.init()
+    >>> state.v[:, 0] = np.linspace(-1.0, 1.0, 50)  # m/s: the plate is stretched
+    >>> for _ in range(10):
+    ...     result = solver.step(state)
+    >>> state.step, bool(state.t > 0)
+    (10, True)
     """
 
     model: Evaluator

@@ -76,6 +76,12 @@ class BondBasedMaterial:
         one, e.g. the 18 k / (pi delta^4) printed in SED-PD (2021), eq. 8, for its
         plane-stress model (see docs/theory_rock.md). E then only enters the outputs that
         quote it.
+
+    Examples
+    --------
+    >>> import peridynamics as pd
+    >>> pd.BondBasedMaterial(youngs_modulus=70e9, density=2700.0).density
+    2700.0
     """
 
     youngs_modulus: float
