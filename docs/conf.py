@@ -23,7 +23,7 @@ release = __version__
 version = __version__
 
 extensions = [
-    "myst_parser",
+    "myst_nb",  # MyST Markdown pages (myst-parser) and the tutorials, executed notebooks
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "sphinx.ext.mathjax",
@@ -35,9 +35,17 @@ extensions = [
     "import_graph",
 ]
 templates_path = ["_templates"]
-source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
+source_suffix = {".rst": "restructuredtext", ".md": "myst-nb"}
 root_doc = "index"
-exclude_patterns = ["_build", "Thumbs.db", ".DS_Store", "img/site/*.md"]
+exclude_patterns = ["_build", "Thumbs.db", ".DS_Store", "img/site/*.md", "jupyter_execute"]
+# the tutorials (docs/tutorials/*.md, MyST notebooks) run at every build: a cell that
+# raises fails the build; each notebook's time is in the build log and in
+# _build/.../reports when one fails
+nb_execution_mode = "force"
+nb_execution_timeout = 600
+nb_execution_raise_on_error = True
+nb_execution_show_tb = True
+nb_merge_streams = True
 myst_enable_extensions = ["dollarmath", "colon_fence"]
 myst_heading_anchors = 3
 suppress_warnings = ["myst.header"]
@@ -45,7 +53,7 @@ suppress_warnings = ["myst.header"]
 # targets outside this package (no intersphinx: the build works offline), private
 # helpers and the views of dict methods that autodoc inherits
 nitpick_ignore_regex = [
-    (r"py:.*", r"(abc|ast|pydantic|warp|numpy|scipy|enum|typing|collections|yaml)(\..*)?"),
+    (r"py:.*", r"(abc|ast|pydantic|warp|numpy|scipy|enum|typing|collections|yaml|matplotlib|pandas|pyvista)(\..*)?"),
     (r"py:.*", r".*\._[A-Za-z_]\w*"),
     (r"py:class", r"(a set-like object|an object) providing a view on D's .*"),
 ]

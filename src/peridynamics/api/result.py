@@ -1,6 +1,6 @@
 """The results of a run as Python objects: :class:`Result`.
 
-A run folder (``peridynamics run`` or :meth:`peridynamics.Simulation.run`) read back:
+A run folder (``peridynamics run`` or :meth:`peridynamics.api.simulation.Simulation.run`) read back:
 ``summary.json`` as a mapping, ``history.csv`` as a pandas DataFrame, the frames of the
 ``.pvd`` series as arrays or PyVista meshes, ``final_state.npz`` in float64, and the
 figures as matplotlib objects. Nothing is read before it is asked for.
@@ -226,11 +226,22 @@ class Result:
         return self.final["damage"]
 
     # -- figures ---------------------------------------------------------------------
+    @staticmethod
+    def _inline() -> None:
+        """In a notebook, import pyplot once so that Jupyter shows a returned Figure as
+        an image (matplotlib-inline registers the display of Figures on that import);
+        the figures themselves stay outside pyplot's list."""
+        from peridynamics.app.run_progress import in_notebook
+
+        if in_notebook():
+            import matplotlib.pyplot  # noqa: F401
+
     def plot_damage(self, title: str | None = None) -> Figure:
         """The final damage over the reference configuration (2-D; 3-D: largest along z)
         as a matplotlib Figure (nothing written)."""
         from peridynamics.io.plots import damage_figure
 
+        self._inline()
         x = np.asarray(self.final["x"])
         if x.shape[1] < 2:
             raise ValueError("plot_damage draws 2-D and 3-D models; a bar: plot result.damage")
@@ -243,6 +254,7 @@ class Result:
         panel each, as a matplotlib Figure (nothing written)."""
         from peridynamics.io.plots import histories_figure
 
+        self._inline()
         table, units = self.history, self.units
         names = list(columns) or [c for c in table.columns if c != "time"]
         missing = [c for c in names if c not in table.columns]

@@ -249,7 +249,7 @@ class Simulation:
 
     @property
     def model(self) -> Any:
-        """The built model (:class:`~peridynamics.evaluation.Evaluator`): ``model.cloud``
+        """The built model (:class:`~peridynamics.evaluation.evaluator.Evaluator`): ``model.cloud``
         (points), ``model.bonds`` (the directed bond list), ``model.force_model``."""
         return self._sim.model
 
@@ -319,7 +319,7 @@ class Simulation:
             Continue the interrupted run of the folder ``out`` from its checkpoint, as
             ``--resume`` does.
         quiet : bool
-            No messages (default ``True``; the progress bar is :attr:`progress`).
+            No messages (default ``True``; the progress bar is the ``progress`` argument).
 
         Raises
         ------

@@ -1,5 +1,5 @@
 """The shipped example decks: where they are installed and their names (``peridynamics
-examples`` lists them; :meth:`peridynamics.Deck.example` reads one)."""
+examples`` lists them; :meth:`peridynamics.api.deck.Deck.example` reads one)."""
 
 from __future__ import annotations
 

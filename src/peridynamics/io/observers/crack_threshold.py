@@ -139,10 +139,13 @@ def warn_threshold(
         f"crack lie below {threshold - THRESHOLD_BAND:.2f} (median {med:.3f}), so the "
         "tracker misses that part of the crack"
     )
-    msg = (
-        f"{key} = {threshold:g} {what}; use a lower threshold (e.g. {lower:g}) or the "
-        f"broken-bond measure results.{unit}"
+    advice = (
+        f"use a lower threshold (e.g. {lower:g}) or the broken-bond measure results.{unit}"
+        if lower < threshold
+        else f"a lower threshold would count damage that is no crack; use the broken-bond "
+        f"measure results.{unit} (or a finer discretisation)"
     )
+    msg = f"{key} = {threshold:g} {what}; {advice}"
     results.setdefault("warnings", []).append(msg)
     warnings.warn(msg, CrackThresholdWarning, stacklevel=2)
 
