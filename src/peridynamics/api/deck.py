@@ -115,9 +115,7 @@ class Deck(DeckSchema):
 
         decks = {k: v for k, v in list_examples().items() if v.suffix == ".yaml"}
         if name not in decks:
-            raise DeckError(
-                [("", f"no example deck {name!r}; the examples: {', '.join(decks)}")]
-            )
+            raise DeckError([("", f"no example deck {name!r}; the examples: {', '.join(decks)}")])
         return cls.from_file(decks[name], overrides)
 
     @classmethod

@@ -112,9 +112,7 @@ def _as_callback(cb: Callback | Callable[[State], Any]) -> Callback:
         return cb
     if callable(cb):
         return _FunctionCallback(cb)
-    raise TypeError(
-        f"callbacks: {cb!r} is neither a peridynamics.Callback nor a function f(state)"
-    )
+    raise TypeError(f"callbacks: {cb!r} is neither a peridynamics.Callback nor a function f(state)")
 
 
 def _deck_of(deck: Deck | DeckSchema | str | Path | Mapping[str, Any], overrides: Any) -> Deck:
@@ -228,7 +226,7 @@ class Simulation:
             if rank == 0:
                 self._tmp = tempfile.TemporaryDirectory(prefix=f"peridynamics_{self.deck.name}_")
             name = self._tmp.name if self._tmp is not None else None
-            self.out = Path(name if comm is None else comm.bcast(name, root=0))
+            self.out = Path(str(name if comm is None else comm.bcast(name, root=0)))
         else:
             self.out = Path(out)
             self.out.mkdir(parents=True, exist_ok=True)
@@ -305,9 +303,7 @@ class Simulation:
                     cb.on_step(state, result)
         return state
 
-    def run(
-        self, checkpoint_every: int = 0, resume: bool = False, quiet: bool = True
-    ) -> Result:
+    def run(self, checkpoint_every: int = 0, resume: bool = False, quiet: bool = True) -> Result:
         """Run to the end (from :attr:`state` when :meth:`step` was called) and return the
         result; the run folder holds what ``peridynamics run`` writes.
 

@@ -181,9 +181,7 @@ def in_notebook() -> bool:
     return shell is not None and type(shell).__name__ == "ZMQInteractiveShell"
 
 
-def progress_bar(
-    off: bool, total: int, start: int, label: str
-) -> _NoBar | _RichBar | _NotebookBar:
+def progress_bar(off: bool, total: int, start: int, label: str) -> _NoBar | _RichBar | _NotebookBar:
     """The run's progress bar: none (``off``), an HTML bar in a Jupyter notebook, else
     rich's bar in the terminal."""
     if off:

@@ -94,7 +94,8 @@ class Bonds:
     --------
     >>> import numpy as np
     >>> import peridynamics as pd
-    >>> x = np.stack(np.meshgrid(np.arange(10), np.arange(5), indexing="ij"), -1).reshape(-1, 2) * 1e-3
+    >>> grid = np.meshgrid(np.arange(10), np.arange(5), indexing="ij")
+    >>> x = np.stack(grid, -1).reshape(-1, 2) * 1e-3  # m
     >>> cloud = pd.PointCloud(x=x, volume=np.full(50, 1e-9), spacing=1e-3, plane="stress")
     >>> bonds = pd.build_bonds(cloud, 3.015e-3)
     >>> int(bonds.offsets[1] - bonds.offsets[0])  # the family of point 0 (a corner)
@@ -328,7 +329,8 @@ def build_bonds(
     --------
     >>> import numpy as np
     >>> import peridynamics as pd
-    >>> x = np.stack(np.meshgrid(np.arange(10), np.arange(5), indexing="ij"), -1).reshape(-1, 2) * 1e-3
+    >>> grid = np.meshgrid(np.arange(10), np.arange(5), indexing="ij")
+    >>> x = np.stack(grid, -1).reshape(-1, 2) * 1e-3  # m
     >>> cloud = pd.PointCloud(x=x, volume=np.full(50, 1e-9), spacing=1e-3, plane="stress")
     >>> bonds = pd.build_bonds(cloud, horizon=3.015e-3)
     >>> bonds.n_bonds

@@ -65,14 +65,14 @@ CHANGED_DEFAULTS = (
     ),
     ChangedDefault(
         "solver.time_step",
-        "0.1.0",
+        "0.2.0",
         "the automatic step now includes solver.damping in the stable limit (a smaller "
         "step than before for this damped deck); give solver.time_step to fix it",
         _automatic_step_with_damping,
     ),
     ChangedDefault(
         "solver.time_step",
-        "0.1.0",
+        "0.2.0",
         "the automatic step of an LPS or correspondence deck now comes from a Lanczos "
         "estimate of the highest frequency (1/sqrt(1.25) = 0.89 of the critical step "
         "before safety_factor): 1.1 (LPS) to 3 (correspondence, 3-D) times longer than "
@@ -81,7 +81,7 @@ CHANGED_DEFAULTS = (
     ),
     ChangedDefault(
         "solver.tolerance",
-        "0.1.0",
+        "0.2.0",
         "dynamic relaxation of an LPS or correspondence deck now takes its fictitious "
         "density from a Lanczos estimate of the largest eigenvalue (up to 1.25 over it, "
         "before 1.4-12 times): fewer iterations, and the converged fields move within "

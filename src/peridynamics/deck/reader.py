@@ -1,7 +1,7 @@
 """Reading a deck: YAML as decks are read (safe, no repeated key, scientific notation
-as floats), ``--set key.path=value`` overrides, validation into a :class:`~peridynamics.deck.schema.Deck` with
-the cross-section checks, and the files a deck names (mesh, initial fields) resolved
-relative to its folder."""
+as floats), ``--set key.path=value`` overrides, validation into a
+:class:`~peridynamics.deck.schema.Deck` with the cross-section checks, and the files a
+deck names (mesh, initial fields) resolved relative to its folder."""
 
 from __future__ import annotations
 
@@ -102,7 +102,8 @@ def _override_value(key: str, raw: str) -> Any:
 
 
 def parse_deck(data: Any, base_dir: Path | None = None) -> Deck:
-    """Validate a raw mapping into a :class:`~peridynamics.deck.schema.Deck`; raise :class:`DeckError`."""
+    """Validate a raw mapping into a :class:`~peridynamics.deck.schema.Deck`; raise
+    :class:`DeckError`."""
     if not isinstance(data, dict):
         raise DeckError([("", "a deck is a YAML mapping of sections (name, geometry, ...)")])
     try:

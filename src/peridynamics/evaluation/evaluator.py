@@ -99,10 +99,12 @@ class Evaluator(Measures):
     --------
     >>> import numpy as np
     >>> import peridynamics as pd
-    >>> x = np.stack(np.meshgrid(np.arange(10), np.arange(5), indexing="ij"), -1).reshape(-1, 2) * 1e-3
+    >>> grid = np.meshgrid(np.arange(10), np.arange(5), indexing="ij")
+    >>> x = np.stack(grid, -1).reshape(-1, 2) * 1e-3  # m
     >>> cloud = pd.PointCloud(x=x, volume=np.full(50, 1e-9), spacing=1e-3, plane="stress")
     >>> bonds = pd.build_bonds(cloud, 3.015e-3)
-    >>> model = pd.Evaluator(cloud, bonds, pd.BondBasedMaterial(70e9, 2700.0), pd.CriticalStretch(0.01))
+    >>> material = pd.BondBasedMaterial(70e9, 2700.0)
+    >>> model = pd.Evaluator(cloud, bonds, material, pd.CriticalStretch(0.01))
     >>> model.dim
     2
     """

@@ -106,7 +106,8 @@ class PointCloud:
     --------
     >>> import numpy as np
     >>> import peridynamics as pd
-    >>> x = np.stack(np.meshgrid(np.arange(10), np.arange(5), indexing="ij"), -1).reshape(-1, 2) * 1e-3
+    >>> grid = np.meshgrid(np.arange(10), np.arange(5), indexing="ij")
+    >>> x = np.stack(grid, -1).reshape(-1, 2) * 1e-3  # m
     >>> cloud = pd.PointCloud(x=x, volume=np.full(50, 1e-9), spacing=1e-3, plane="stress")
     >>> cloud.n_points, cloud.dim
     (50, 2)

@@ -106,9 +106,11 @@ class ExplicitSolver:
     --------
     >>> import numpy as np
     >>> import peridynamics as pd
-    >>> x = np.stack(np.meshgrid(np.arange(10), np.arange(5), indexing="ij"), -1).reshape(-1, 2) * 1e-3
+    >>> grid = np.meshgrid(np.arange(10), np.arange(5), indexing="ij")
+    >>> x = np.stack(grid, -1).reshape(-1, 2) * 1e-3  # m
     >>> cloud = pd.PointCloud(x=x, volume=np.full(50, 1e-9), spacing=1e-3, plane="stress")
-    >>> model = pd.Evaluator(cloud, pd.build_bonds(cloud, 3.015e-3), pd.BondBasedMaterial(70e9, 2700.0))
+    >>> bonds = pd.build_bonds(cloud, 3.015e-3)
+    >>> model = pd.Evaluator(cloud, bonds, pd.BondBasedMaterial(70e9, 2700.0))
     >>> solver = pd.ExplicitSolver(model, safety_factor=0.8)
     >>> state = solver.init()
     >>> state.v[:, 0] = np.linspace(-1.0, 1.0, 50)  # m/s: the plate is stretched
