@@ -34,6 +34,7 @@ mode).
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit, prange
 
 from peridynamics.kernels.correspondence_points import (  # re-exported: one kernel module
@@ -109,12 +110,14 @@ def prepass(
     m = 3 if d == 2 else 6
     # symmetric index pairs (a, b), a <= b: 2-D xx, yy, xy; 3-D xx, yy, zz, xy, xz, yz
     for i in prange(n):
+        # the helpers' index unsigned, as prange's in the parallel loop: one compile each
+        q = np.uint64(i)
         acc = scratch[i]
         for a in range(d):
             for b in range(d):
                 sigma_s[i, a, b] = 0.0
         if reuse:
-            _motion(i, bond_xi, length, u, offsets, bond_j, wv, intact, mode, fgrad, acc)
+            _motion(q, bond_xi, length, u, offsets, bond_j, wv, intact, mode, fgrad, acc)
             if active[i] == 0.0:
                 for a in range(d):
                     for b in range(d):
@@ -128,13 +131,13 @@ def prepass(
                     kinv[i, a, b] = 0.0
                     fgrad[i, a, b] = 0.0
             if not _geometry(
-                i, bond_xi, length, u, offsets, bond_j, wv, intact, det_ref,
+                q, bond_xi, length, u, offsets, bond_j, wv, intact, det_ref,
                 degenerate_ratio, mode, kinv, fgrad, omega0, active, acc,
             ):  # fmt: skip
                 continue
-            _motion(i, bond_xi, length, u, offsets, bond_j, wv, intact, mode, fgrad, acc)
+            _motion(q, bond_xi, length, u, offsets, bond_j, wv, intact, mode, fgrad, acc)
         active[i] = 1.0
-        _finish(i, d, mode, stab, kinv, fgrad, sigma_s, acc)
+        _finish(q, d, mode, stab, kinv, fgrad, sigma_s, acc)
 
 
 @njit

@@ -138,17 +138,18 @@ def force_2d(bond_xi, length, u, offsets, bond_j, wv, intact, amat, fgrad, stab,
     """
     n = offsets.shape[0] - 1
     for i in prange(n):
+        q = np.uint64(i)  # the rows' index unsigned, as prange's: one compile each
         if mode == 2:
             f0, f1 = _row_2d(
-                i, bond_xi, length, u, offsets, bond_j, wv, intact, amat, fgrad, stab, 2
+                q, bond_xi, length, u, offsets, bond_j, wv, intact, amat, fgrad, stab, 2
             )
         elif mode == 1:
             f0, f1 = _row_2d(
-                i, bond_xi, length, u, offsets, bond_j, wv, intact, amat, fgrad, stab, 1
+                q, bond_xi, length, u, offsets, bond_j, wv, intact, amat, fgrad, stab, 1
             )
         else:
             f0, f1 = _row_2d(
-                i, bond_xi, length, u, offsets, bond_j, wv, intact, amat, fgrad, stab, 0
+                q, bond_xi, length, u, offsets, bond_j, wv, intact, amat, fgrad, stab, 0
             )
         out[i, 0] = f0
         out[i, 1] = f1
@@ -159,17 +160,18 @@ def force_3d(bond_xi, length, u, offsets, bond_j, wv, intact, amat, fgrad, stab,
     """3-D correspondence force density (N/m^3); arguments as :func:`force_2d`, dim 3."""
     n = offsets.shape[0] - 1
     for i in prange(n):
+        q = np.uint64(i)  # the rows' index unsigned, as prange's: one compile each
         if mode == 2:
             f0, f1, f2 = _row_3d(
-                i, bond_xi, length, u, offsets, bond_j, wv, intact, amat, fgrad, stab, 2
+                q, bond_xi, length, u, offsets, bond_j, wv, intact, amat, fgrad, stab, 2
             )
         elif mode == 1:
             f0, f1, f2 = _row_3d(
-                i, bond_xi, length, u, offsets, bond_j, wv, intact, amat, fgrad, stab, 1
+                q, bond_xi, length, u, offsets, bond_j, wv, intact, amat, fgrad, stab, 1
             )
         else:
             f0, f1, f2 = _row_3d(
-                i, bond_xi, length, u, offsets, bond_j, wv, intact, amat, fgrad, stab, 0
+                q, bond_xi, length, u, offsets, bond_j, wv, intact, amat, fgrad, stab, 0
             )
         out[i, 0] = f0
         out[i, 1] = f1

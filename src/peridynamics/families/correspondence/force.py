@@ -166,9 +166,10 @@ class CorrespondenceForceModel(LargestStretchPass, ForceModel):
         kernels.prepass(
             self.bond_xi, self.length, u, b.offsets, b.bond_j, self.weight, intact,
             self.det_reference, DEGENERATE_RATIO, self.mode, self.stab_base, kinv, fgrad,
-            sigma_s, omega0, active, np.empty_like(self._work_rows(n_all)),
+            sigma_s, omega0, active, np.empty_like(self._work_rows(n_all)), False,
         )  # fmt: skip
-        # (scratch rows of its own: those of the pre-pass keep M between steps)
+        # (scratch rows of its own: those of the pre-pass keep M between steps; ``reuse``
+        # passed, not left to its default: one compiled signature of the kernel, not two)
         stab = self._stabilization(omega0, active)
         return fgrad, kinv, sigma_s, omega0, active, stab
 
