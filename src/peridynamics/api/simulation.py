@@ -203,7 +203,7 @@ class Simulation:
         self.deck = _deck_of(deck, overrides)
         self.callbacks = [_as_callback(cb) for cb in callbacks]
         self.progress = bool(progress)
-        comm = _communicator(comm)
+        comm = self._comm = _communicator(comm)
         share = 1.0
         if comm is not None:
             from peridynamics.parallel.launch import node_ranks
@@ -341,6 +341,8 @@ class Simulation:
             resume=resume,
             progress=self.progress,
         )
+        if self._comm is not None:  # rank 0 wrote the summary: every rank returns it
+            summary = self._comm.bcast(summary if self._comm.Get_rank() == 0 else None, root=0)
         result = Result(self.out, summary=summary)
         result._keep = self._tmp  # a temporary folder lives as long as the result
         return result
