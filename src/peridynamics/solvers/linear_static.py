@@ -8,7 +8,7 @@ finite-difference tangent of :mod:`peridynamics.families.tangent`.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -22,10 +22,16 @@ if TYPE_CHECKING:
     from peridynamics.families.base import ForceModel
 
 
-def reference_state(model: ForceModel) -> State:
+def reference_state(model: ForceModel | Any) -> State:
     """A State at the reference configuration: zero u, v, force, body; ``intact`` from
-    the bond list (pre-cracks broken); zero ``max_stretch`` and every field the model
-    declares (:meth:`~peridynamics.families.base.ForceModel.state_fields`)."""
+    the bond list (pre-cracks broken); zero ``max_stretch``, zero fields of every further
+    dof group (:meth:`~peridynamics.families.base.ForceModel.dofs`: a micropolar model's
+    ``theta``, ``omega``, ``moment``, ``body_moment``, shape (n, components)) and every
+    field the model declares (:meth:`~peridynamics.families.base.ForceModel.state_fields`).
+
+    ``model``: a force model, or an evaluator (its ``force_model`` declares the fields:
+    a micropolar model's rotations ``theta``, for example)."""
+    model = getattr(model, "force_model", model)
     n, d = model.n_points, model.dim
     fields: dict[str, NDArray] = {
         "u": np.zeros((n, d)),
@@ -35,6 +41,9 @@ def reference_state(model: ForceModel) -> State:
         "intact": np.array(model.bonds.bond_intact, dtype=np.uint8, copy=True),
         "max_stretch": np.zeros(n),
     }
+    for group in model.dofs()[1:]:  # further dof groups (micropolar rotations)
+        for name in (group.value, group.rate, group.force, group.body):
+            fields[name] = np.zeros((n, group.components))
     for spec in model.state_fields():
         rows = {"point": n, "bond": model.bonds.n_bonds}.get(spec.where, spec.rows)
         shape = (rows,) if spec.components == 0 else (rows, spec.components)
