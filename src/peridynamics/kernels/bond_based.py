@@ -142,13 +142,25 @@ def _stretch_of(i, j, x, u):
     return r * (1.0 / length) - 1.0
 
 
+@njit
+def total_count(counts):
+    """Sum of an int64 array (bonds broken per point), in a serial loop: a ``.sum()`` in
+    a parallel kernel is a parallel reduction, one more gufunc to compile for a sum of
+    n integers (exact in any order)."""
+    total = 0
+    for i in range(counts.shape[0]):
+        total += counts[i]
+    return total
+
+
 @njit(fastmath=False)
 def _break_family(i, x, u, offsets, bond_j, intact, s0):
     """Break the bonds of point ``i`` whose stretch reaches (s0_i + s0_j) / 2.
 
     Not inlined and compiled without fast-math: a scalar loop whose every decision has
     the same bits as :func:`break_trial`'s, so point ``i`` and point ``j`` take the same
-    decision for the same bond. Returns the number of bonds broken.
+    decision for the same bond. Returns the number of bonds broken. Called with ``i``
+    unsigned (the type of prange's index in the parallel loop): compiled once.
     """
     broken = 0
     for k in range(offsets[i], offsets[i + 1]):
@@ -190,12 +202,12 @@ def force_1d(x, u, offsets, bond_j, stiffness, intact, s0, s0_min, force, nbroke
         f0, over = _family_1d(i, x, u, offsets, bond_j, stiffness, intact, level)
         nbroken[i] = 0
         if over > 0.0:
-            nb = _break_family(i, x, u, offsets, bond_j, intact, s0)
+            nb = _break_family(np.uint64(i), x, u, offsets, bond_j, intact, s0)
             if nb > 0:
                 nbroken[i] = nb
                 f0, over = _family_1d(i, x, u, offsets, bond_j, stiffness, intact, level)
         force[i, 0] = f0
-    return nbroken.sum()
+    return total_count(nbroken)
 
 
 @_hot
@@ -207,13 +219,13 @@ def force_2d(x, u, offsets, bond_j, stiffness, intact, s0, s0_min, force, nbroke
         f0, f1, over = _family_2d(i, x, u, offsets, bond_j, stiffness, intact, level)
         nbroken[i] = 0
         if over > 0.0:
-            nb = _break_family(i, x, u, offsets, bond_j, intact, s0)
+            nb = _break_family(np.uint64(i), x, u, offsets, bond_j, intact, s0)
             if nb > 0:
                 nbroken[i] = nb
                 f0, f1, over = _family_2d(i, x, u, offsets, bond_j, stiffness, intact, level)
         force[i, 0] = f0
         force[i, 1] = f1
-    return nbroken.sum()
+    return total_count(nbroken)
 
 
 @_hot
@@ -225,14 +237,14 @@ def force_3d(x, u, offsets, bond_j, stiffness, intact, s0, s0_min, force, nbroke
         f0, f1, f2, over = _family_3d(i, x, u, offsets, bond_j, stiffness, intact, level)
         nbroken[i] = 0
         if over > 0.0:
-            nb = _break_family(i, x, u, offsets, bond_j, intact, s0)
+            nb = _break_family(np.uint64(i), x, u, offsets, bond_j, intact, s0)
             if nb > 0:
                 nbroken[i] = nb
                 f0, f1, f2, over = _family_3d(i, x, u, offsets, bond_j, stiffness, intact, level)
         force[i, 0] = f0
         force[i, 1] = f1
         force[i, 2] = f2
-    return nbroken.sum()
+    return total_count(nbroken)
 
 
 @njit(inline="always")
@@ -282,7 +294,7 @@ def force_sed_2d(
         )
         nbroken[i] = 0
         if over > 0.0:
-            nb = _break_family(i, x, u, offsets, bond_j, intact, s0)
+            nb = _break_family(np.uint64(i), x, u, offsets, bond_j, intact, s0)
             if nb > 0:
                 nbroken[i] = nb
                 f0, f1, over, w = _family_2d_sed(
@@ -291,7 +303,7 @@ def force_sed_2d(
         force[i, 0] = f0
         force[i, 1] = f1
         energy[i] = w
-    return nbroken.sum()
+    return total_count(nbroken)
 
 
 FORCE_KERNELS = {1: force_1d, 2: force_2d, 3: force_3d}
@@ -349,7 +361,9 @@ def largest_stretch(x, u, offsets, bond_j, intact, above, out):
             over = _family_2d(i, x, u, offsets, bond_j, intact, intact, level)[2]
         else:
             over = _family_3d(i, x, u, offsets, bond_j, intact, intact, level)[3]
-        out[i] = _largest_of_family(i, x, u, offsets, bond_j, intact) if over > 0.0 else 0.0
+        # the helper's index unsigned, as prange's in the parallel loop: one compile
+        q = np.uint64(i)
+        out[i] = _largest_of_family(q, x, u, offsets, bond_j, intact) if over > 0.0 else 0.0
 
 
 @_exact

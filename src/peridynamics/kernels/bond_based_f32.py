@@ -22,6 +22,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
+from peridynamics.kernels.bond_based import total_count
+
 _hot = njit(parallel=True, fastmath=True, error_model="numpy", cache=True)
 
 _NEVER = np.float32(1.0e30)
@@ -48,7 +50,8 @@ def _stretch(i, j, x, u):
 
 @njit(fastmath=False)
 def _break_family(i, x, u, offsets, bond_j, intact, s0):
-    """Break the bonds of point ``i`` whose float32 stretch reaches (s0_i + s0_j) / 2."""
+    """Break the bonds of point ``i`` whose float32 stretch reaches (s0_i + s0_j) / 2
+    (``i`` unsigned, the type of prange's index in the parallel loop: compiled once)."""
     broken = 0
     for k in range(offsets[i], offsets[i + 1]):
         j = bond_j[k]
@@ -151,12 +154,12 @@ def force_f32_1d(x, u, offsets, bond_j, stiffness, intact, s0, s0_min, force, nb
         f0, over = _family_1d(i, x, u, offsets, bond_j, stiffness, intact, level)
         nbroken[i] = 0
         if over > _ZERO:
-            nb = _break_family(i, x, u, offsets, bond_j, intact, s0)
+            nb = _break_family(np.uint64(i), x, u, offsets, bond_j, intact, s0)
             if nb > 0:
                 nbroken[i] = nb
                 f0, over = _family_1d(i, x, u, offsets, bond_j, stiffness, intact, level)
         force[i, 0] = f0
-    return nbroken.sum()
+    return total_count(nbroken)
 
 
 @_hot
@@ -168,13 +171,13 @@ def force_f32_2d(x, u, offsets, bond_j, stiffness, intact, s0, s0_min, force, nb
         f0, f1, over = _family_2d(i, x, u, offsets, bond_j, stiffness, intact, level)
         nbroken[i] = 0
         if over > _ZERO:
-            nb = _break_family(i, x, u, offsets, bond_j, intact, s0)
+            nb = _break_family(np.uint64(i), x, u, offsets, bond_j, intact, s0)
             if nb > 0:
                 nbroken[i] = nb
                 f0, f1, over = _family_2d(i, x, u, offsets, bond_j, stiffness, intact, level)
         force[i, 0] = f0
         force[i, 1] = f1
-    return nbroken.sum()
+    return total_count(nbroken)
 
 
 @_hot
@@ -186,14 +189,14 @@ def force_f32_3d(x, u, offsets, bond_j, stiffness, intact, s0, s0_min, force, nb
         f0, f1, f2, over = _family_3d(i, x, u, offsets, bond_j, stiffness, intact, level)
         nbroken[i] = 0
         if over > _ZERO:
-            nb = _break_family(i, x, u, offsets, bond_j, intact, s0)
+            nb = _break_family(np.uint64(i), x, u, offsets, bond_j, intact, s0)
             if nb > 0:
                 nbroken[i] = nb
                 f0, f1, f2, over = _family_3d(i, x, u, offsets, bond_j, stiffness, intact, level)
         force[i, 0] = f0
         force[i, 1] = f1
         force[i, 2] = f2
-    return nbroken.sum()
+    return total_count(nbroken)
 
 
 _KERNELS = {1: force_f32_1d, 2: force_f32_2d, 3: force_f32_3d}

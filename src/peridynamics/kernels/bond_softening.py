@@ -28,6 +28,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
+from peridynamics.kernels.bond_based import total_count
+
 _kernel = njit(parallel=True, fastmath=False, error_model="numpy", cache=True)
 
 
@@ -198,7 +200,7 @@ def force_1d(
             nbroken[i] = _commit_family(i, x, u, offsets, bond_j, inv_length, intact, kappa, s0, sf)
         force[i, 0] = f0
         smax_out[i] = smax
-    return nbroken.sum()
+    return total_count(nbroken)
 
 
 @_kernel
@@ -218,7 +220,7 @@ def force_2d(
         force[i, 0] = f0
         force[i, 1] = f1
         smax_out[i] = smax
-    return nbroken.sum()
+    return total_count(nbroken)
 
 
 @_kernel
@@ -239,7 +241,7 @@ def force_3d(
         force[i, 1] = f1
         force[i, 2] = f2
         smax_out[i] = smax
-    return nbroken.sum()
+    return total_count(nbroken)
 
 
 FORCE_KERNELS = {1: force_1d, 2: force_2d, 3: force_3d}
