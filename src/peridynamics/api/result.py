@@ -228,13 +228,22 @@ class Result:
     # -- figures ---------------------------------------------------------------------
     @staticmethod
     def _inline() -> None:
-        """In a notebook, import pyplot once so that Jupyter shows a returned Figure as
-        an image (matplotlib-inline registers the display of Figures on that import);
-        the figures themselves stay outside pyplot's list."""
+        """In a notebook, have Jupyter show a returned Figure as an image: IPython's PNG
+        formatter for Figures (what ``%matplotlib inline`` registers), added when absent;
+        the figures themselves stay outside pyplot."""
         from peridynamics.app.run_progress import in_notebook
 
-        if in_notebook():
-            import matplotlib.pyplot  # noqa: F401
+        if not in_notebook():
+            return
+        from IPython import get_ipython
+        from IPython.core.pylabtools import select_figure_formats
+        from matplotlib.figure import Figure
+
+        shell = get_ipython()
+        try:
+            shell.display_formatter.formatters["image/png"].lookup_by_type(Figure)
+        except KeyError:
+            select_figure_formats(shell, {"png"})
 
     def plot_damage(self, title: str | None = None) -> Figure:
         """The final damage over the reference configuration (2-D; 3-D: largest along z)

@@ -336,7 +336,7 @@ class Simulation:
         self._ran = True
         summary = sim.run(
             self.out,
-            quiet=quiet,
+            quiet=quiet and not self.progress,  # the run loop's bar needs quiet off
             checkpoint_every=int(checkpoint_every) if checkpoint_every or not resume else None,
             resume=resume,
             progress=self.progress,
