@@ -15,9 +15,12 @@ _hot = njit(parallel=True, fastmath=True, error_model="numpy", cache=True)
 _exact = njit(parallel=True, fastmath=False, cache=True)
 
 
-@njit(inline="always")
+@njit
 def invert_in_place(m, i, d):
-    """Invert the (d, d) block m[i] in place (d = 2 or 3); returns its determinant."""
+    """Invert the (d, d) block m[i] in place (d = 2 or 3); returns its determinant.
+
+    A plain ``njit`` function (LLVM inlines it): Numba-level inlining made the cold
+    compile of the pre-pass about 0.8 s (10 %) longer."""
     if d == 2:
         a, b, c, e = m[i, 0, 0], m[i, 0, 1], m[i, 1, 0], m[i, 1, 1]
         det = a * e - b * c
