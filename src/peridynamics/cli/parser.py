@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 
 from peridynamics import __version__
-from peridynamics.cli import batch, examples, run, tools
+from peridynamics.cli import batch, examples, run, tools, verify
 from peridynamics.cli import help as help_cmd
 from peridynamics.cli.common import EXIT_CODES, HELP_TOPICS
 
@@ -28,4 +28,5 @@ def build_parser() -> argparse.ArgumentParser:
     examples.register(sub)
     tools.register_dispersion(sub)
     tools.register_bench(sub)
+    verify.register(sub)
     return p

@@ -1,0 +1,254 @@
+"""The verification cases of ``peridynamics verify``: a shipped example deck at a stated
+size, and the quantities measured from its run against references that do not come
+from this code (closed-form solutions, published observations), each with its source
+and a tolerance.
+
+A case is data: the example, the overrides of each tier, and its checks. A check reads
+the run's ``summary.json`` mapping and returns the measured value; the reference is a
+number computed from the deck's own parameters (so an override that changes E also
+changes the reference), never a number an earlier run of this code printed.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+Summary = dict[str, Any]
+
+
+@dataclass(frozen=True)
+class Check:
+    """One measured quantity against its reference.
+
+    Attributes
+    ----------
+    quantity : str
+        What is measured (a sentence fragment, with the unit in ``unit``).
+    unit : str
+        Unit of the measured and reference values (SI).
+    measure : callable
+        ``measure(summary) -> float``: the value from the run.
+    reference : callable
+        ``reference(inputs) -> float``: the reference from the deck's parameters
+        (``summary["inputs"]``, the validated deck as data).
+    source : str
+        Where the reference comes from (an author-year citation listed in
+        ``docs/references.md``, or the closed form it is).
+    rel : float
+        Relative tolerance (``|measured - reference| <= rel |reference| + abs``).
+    abs : float
+        Absolute tolerance, in ``unit``.
+    at_most : bool
+        An upper bound: passes when ``measured <= reference (1 + rel)`` (a crack speed
+        below the Rayleigh speed, ...).
+    """
+
+    quantity: str
+    unit: str
+    measure: Callable[[Summary], float]
+    reference: Callable[[Summary], float]
+    source: str
+    rel: float = 0.0
+    abs: float = 0.0
+    at_most: bool = False
+
+    def judge(self, measured: float, reference: float) -> bool:
+        """Whether ``measured`` is within the tolerance of ``reference``."""
+        if not (math.isfinite(measured) and math.isfinite(reference)):
+            return False
+        if self.at_most:
+            return measured <= reference * (1.0 + self.rel) + self.abs
+        return abs(measured - reference) <= self.rel * abs(reference) + self.abs
+
+
+@dataclass(frozen=True)
+class Case:
+    """A shipped example run at a tier's size, and its checks.
+
+    Attributes
+    ----------
+    name : str
+        The case's name (``--only`` matches it).
+    title : str
+        One line on what is verified.
+    deck : str
+        The example deck, as ``peridynamics examples`` names it (``bar_wave_1d``,
+        ``plate_tension_2d/adr``).
+    quick : tuple of str or None
+        ``--set`` overrides of the quick tier (``None``: not in the quick tier).
+    full : tuple of str
+        Overrides of the full tier (the shipped deck: ``()``).
+    checks : tuple of Check
+        What is compared.
+    """
+
+    name: str
+    title: str
+    deck: str
+    quick: tuple[str, ...] | None
+    full: tuple[str, ...] = ()
+    checks: tuple[Check, ...] = field(default_factory=tuple)
+
+    def overrides(self, tier: str) -> tuple[str, ...] | None:
+        """The overrides of ``tier`` (``"quick"`` or ``"full"``), ``None`` when the case
+        is not in it."""
+        return self.quick if tier == "quick" else self.full
+
+
+# -- the quantities --------------------------------------------------------------------
+def _probe(summary: Summary, name: str) -> dict[str, Any]:
+    return dict(summary["results"]["probes"][name])
+
+
+def _material(inputs: Summary) -> tuple[float, float]:
+    m = inputs["material"]
+    return float(m["youngs_modulus"]), float(m["density"])
+
+
+def _bar_speed(inputs: Summary) -> float:
+    e, rho = _material(inputs)
+    return math.sqrt(e / rho)
+
+
+def _pulse(inputs: Summary) -> tuple[float, float]:
+    """(peak stress (Pa), rise time (s)) of the bar's triangular pulse."""
+    load = inputs["boundary_conditions"][0]
+    tf = load["time_function"]
+    return abs(float(load["value"][0]) * float(tf["peak"])), float(tf["rise_time"])
+
+
+def _gauge_x(inputs: Summary) -> float:
+    return float(inputs["node_sets"]["gauge"]["point"][0])
+
+
+def _plate_static(summary: Summary, a: str, b: str) -> float:
+    """The difference of two displacement probes in the static state: the last record
+    of a static solve, the mean after the ramp (t > 60 us) of a dynamic one."""
+    pa, pb = _probe(summary, a), _probe(summary, b)
+    diff = np.asarray(pa["values"]) - np.asarray(pb["values"])
+    if summary["inputs"]["solver"].get("type") == "adr":
+        return float(diff[-1])
+    late = np.asarray(pa["time_s"]) > 60e-6
+    return float(np.mean(diff[late]))
+
+
+def _plate_stress(inputs: Summary) -> tuple[float, float, float, float]:
+    """(traction (Pa), E (Pa), loaded length (m), width (m)) of the tension plate: the
+    distance between the outermost rows of points, one spacing inside the outline."""
+    e, _ = _material(inputs)
+    sigma = abs(float(inputs["boundary_conditions"][0]["value"][0]))
+    dx = float(inputs["discretisation"]["spacing"])
+    size = inputs["geometry"]["size"]
+    return sigma, e, float(size[0]) - dx, float(size[1]) - dx
+
+
+def _rayleigh_speed_pmb_plane_stress(inputs: Summary) -> float:
+    """Rayleigh speed of the bond-based plate as modelled: plane stress with nu = 1/3
+    (plane-strain equations with nu* = 1/4, c_R = 0.9194 c_s) and the interior modulus
+    0.855 E of the uncorrected model at delta = 4 dx (docs/deck.md)."""
+    e, rho = _material(inputs)
+    corrected = inputs["discretisation"].get("surface_correction", True)
+    e_model = e if corrected else 0.855 * e
+    return 0.9194 * math.sqrt(e_model / (2.0 * (1.0 + 1.0 / 3.0)) / rho)
+
+
+_WAVE = "d'Alembert solution of the local bar, c = sqrt(E / rho)"
+_HOOKE = "Hooke's law in uniaxial plane stress; nu = 1/3 of 2-D bond-based PD (Silling 2000)"
+
+
+def _elongation(inputs: Summary) -> float:
+    sigma, e, length, _ = _plate_stress(inputs)
+    return sigma * length / e
+
+
+def _width_change(inputs: Summary) -> float:
+    sigma, e, _, width = _plate_stress(inputs)
+    return -sigma * width / (3.0 * e)  # nu = 1/3
+
+
+_PLATE_CHECKS = (
+    Check(
+        "elongation between the loaded rows", "m",
+        lambda s: _plate_static(s, "right_ux", "left_ux"), _elongation, _HOOKE, rel=0.03,
+    ),
+    Check(
+        "change of width between the edge rows", "m",
+        lambda s: _plate_static(s, "top_uy", "bottom_uy"), _width_change, _HOOKE, rel=0.05,
+    ),
+)  # fmt: skip
+
+#: every case, in report order
+CASES: tuple[Case, ...] = (
+    Case(
+        "bar_wave_1d",
+        "a triangular stress pulse travels along a 1-D bar at the bar speed (Lu & Wang 2016)",
+        "bar_wave_1d",
+        quick=("discretisation.spacing=0.01", "solver.time_step=2e-6"),
+        checks=(
+            Check(
+                "arrival of 10 % of the peak velocity at the gauge", "s",
+                lambda s: float(_probe(s, "gauge_velocity")["arrival_time_s"]),
+                lambda i: _gauge_x(i) / _bar_speed(i) + 0.1 * _pulse(i)[1],
+                _WAVE, abs=6e-6,
+            ),
+            Check(
+                "peak particle velocity at the gauge", "m/s",
+                lambda s: abs(float(_probe(s, "gauge_velocity")["peak"])),
+                lambda i: _pulse(i)[0] / (_material(i)[1] * _bar_speed(i)),
+                _WAVE + ": v = sigma / (rho c)", rel=0.03,
+            ),
+        ),
+    ),
+    Case(
+        "plate_tension_explicit",
+        "a plate under a ramped uniaxial traction oscillates about Hooke's static state",
+        "plate_tension_2d",
+        quick=("discretisation.spacing=1e-3",),
+        checks=_PLATE_CHECKS,
+    ),
+    Case(
+        "plate_tension_adr",
+        "the same plate solved for equilibrium by adaptive dynamic relaxation",
+        "plate_tension_2d/adr",
+        quick=("discretisation.spacing=1e-3",),
+        checks=_PLATE_CHECKS,
+    ),
+    Case(
+        "crack_branching",
+        "a crack in a glass plate under sudden tension runs below the Rayleigh speed and "
+        "branches (Ha & Bobaru 2010)",
+        "crack_branching_2d",
+        quick=("discretisation.spacing=5e-4", "discretisation.horizon=2e-3",
+               "output.vtk_every=0"),
+        checks=(
+            Check(
+                "largest crack-tip speed", "m/s",
+                lambda s: float(s["results"]["max_crack_tip_speed_m_per_s"]),
+                _rayleigh_speed_pmb_plane_stress,
+                "Rayleigh speed of the modelled plate (Freund 1990: a mode-I crack runs "
+                "below it)", at_most=True,
+            ),
+            Check(
+                "crack branches (number of branches at the end)", "-",
+                lambda s: float(s["results"].get("crack_branches") or 1),
+                lambda i: 2.0,
+                "Ha & Bobaru (2010): the crack branches once at 12 MPa", abs=0.0,
+            ),
+        ),
+    ),
+)  # fmt: skip
+
+
+def select(tier: str, pattern: str | None = None) -> list[Case]:
+    """The cases of ``tier`` whose name matches the shell pattern ``pattern``."""
+    from fnmatch import fnmatch
+
+    return [
+        c for c in CASES
+        if c.overrides(tier) is not None and (pattern is None or fnmatch(c.name, pattern))
+    ]  # fmt: skip
