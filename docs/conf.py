@@ -33,6 +33,7 @@ extensions = [
     "docstrings",
     "gallery",
     "import_graph",
+    "verify_page",
 ]
 templates_path = ["_templates"]
 source_suffix = {".rst": "restructuredtext", ".md": "myst-nb"}

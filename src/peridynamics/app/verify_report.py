@@ -15,7 +15,7 @@ def _num(v: Any) -> str:
     return f"{v:.5g}" if isinstance(v, float) else str(v)
 
 
-def _rows(report: dict[str, Any]) -> list[list[str]]:
+def rows(report: dict[str, Any]) -> list[list[str]]:
     """One row per check: case, quantity, measured, reference, unit, tolerance, verdict,
     time, source."""
     rows = []
@@ -37,7 +37,7 @@ HEAD = ["case", "quantity", "measured", "reference", "unit", "tolerance", "resul
         "time (s)", "reference from"]  # fmt: skip
 
 
-def _intro(report: dict[str, Any]) -> str:
+def intro(report: dict[str, Any]) -> str:
     m = report["machine"]
     n = len(report["cases"])
     failed = sum(not r["passed"] for r in report["cases"])
@@ -50,9 +50,9 @@ def _intro(report: dict[str, Any]) -> str:
 
 def markdown(report: dict[str, Any]) -> str:
     """``verify.md``."""
-    lines = ["# Verification report", "", _intro(report), "",
+    lines = ["# Verification report", "", intro(report), "",
              "| " + " | ".join(HEAD) + " |", "|" + "---|" * len(HEAD)]  # fmt: skip
-    lines += ["| " + " | ".join(r) + " |" for r in _rows(report)]
+    lines += ["| " + " | ".join(r) + " |" for r in rows(report)]
     for rec in report["cases"]:
         lines += ["", f"## {rec['case']}", "", rec["title"] + ".", ""]
         lines += [f"![{rec['case']}]({rec['case']}/{f})" for f in rec.get("figures", [])]
@@ -67,7 +67,7 @@ def page(report: dict[str, Any]) -> str:
         "<tr>" + "".join(
             f"<td class='{'fail' if cell == 'FAIL' else ''}'>{esc(cell)}</td>" for cell in row
         ) + "</tr>"
-        for row in _rows(report)
+        for row in rows(report)
     )  # fmt: skip
     figures = "".join(
         f"<h2>{esc(r['case'])}</h2><p>{esc(r['title'])}.</p>"
@@ -83,7 +83,7 @@ def page(report: dict[str, Any]) -> str:
     return (
         f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>Verification report"
         f"</title><style>{style}</style></head><body><h1>Verification report</h1>"
-        f"<p>{esc(_intro(report))}</p><table><tr>{head}</tr>{body}</table>{figures}"
+        f"<p>{esc(intro(report))}</p><table><tr>{head}</tr>{body}</table>{figures}"
         "</body></html>\n"
     )
 
