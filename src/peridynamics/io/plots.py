@@ -18,12 +18,15 @@ from numpy.typing import NDArray
 class _Figures:
     """pyplot's ``subplots`` and ``close`` for figures that pyplot does not hold."""
 
+    #: the keywords of ``Figure.subplots``; pyplot passes every other one to the Figure
+    GRID = ("sharex", "sharey", "squeeze", "width_ratios", "height_ratios",
+            "subplot_kw", "gridspec_kw")  # fmt: skip
+
     @staticmethod
-    def subplots(
-        nrows: int = 1, ncols: int = 1, *, figsize: Any = None, **kw: Any
-    ) -> tuple[Figure, Any]:
-        fig = Figure(figsize=figsize)
-        return fig, fig.subplots(nrows, ncols, **kw)
+    def subplots(nrows: int = 1, ncols: int = 1, **kw: Any) -> tuple[Figure, Any]:
+        grid = {k: kw.pop(k) for k in _Figures.GRID if k in kw}
+        fig = Figure(**kw)  # figsize, layout, dpi, ...
+        return fig, fig.subplots(nrows, ncols, **grid)
 
     @staticmethod
     def close(fig: Figure) -> None:
