@@ -9,10 +9,14 @@
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
-import numba
+if "PYTEST_XDIST_WORKER" in os.environ:  # pytest -n N: N processes share the cores
+    os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+
+import numba  # noqa: E402
 import pytest
 
 from tests.helpers import EXAMPLES, cli
