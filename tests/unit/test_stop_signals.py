@@ -155,3 +155,17 @@ def test_a_signal_during_start_up_ends_without_a_traceback(
     _, stderr = proc.communicate(timeout=120)
     assert proc.returncode == 128 + sig, stderr
     assert "Traceback" not in stderr and "interrupted" in stderr
+
+
+@pytest.mark.long
+def test_ctrl_c_at_any_moment_of_start_up_exits_130(tmp_path: Path) -> None:
+    """Ctrl-C swept over the start-up (imports, compilation, set-up): the exit code is 130
+    at every moment, also when the interrupt lands inside an import's C code (before,
+    the interpreter then killed itself with SIGINT: return code -2 at about 0.13 s)."""
+    for k in range(16):
+        proc = _start(tmp_path / f"run{k}")
+        time.sleep(0.05 + 0.04 * k)
+        proc.send_signal(signal.SIGINT)
+        _, stderr = proc.communicate(timeout=120)
+        assert proc.returncode == 130, (k, stderr[-500:])
+        assert "Traceback" not in stderr

@@ -56,6 +56,8 @@ def main(argv: list[str] | None = None) -> int:
         sys.stderr.write(
             f"interrupted ({signal_name(signum)}) during start-up; nothing was written\n"
         )
+        if argv is None:  # the interrupt may have landed in C code (an import's)
+            _exit_now(exit_for_signal(signum))
         return exit_for_signal(signum)
     code = run_command(argv)
     if argv is None and code > 128 and "mpi4py.MPI" not in sys.modules:
