@@ -93,7 +93,7 @@ def _deck_file(deck: Deck | DeckSchema | str | Path, out: Path) -> Path:
     if isinstance(deck, str | Path):
         return Path(deck)
     if isinstance(deck, DeckSchema):
-        plain = deck if isinstance(deck, Deck) else Deck._of(deck)
+        plain = Deck._of(deck)
         path = out / f"{plain.name}.yaml"
         out.mkdir(parents=True, exist_ok=True)
         plain.to_yaml(path)

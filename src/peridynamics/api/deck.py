@@ -71,7 +71,10 @@ class Deck(DeckSchema):
 
     @classmethod
     def _of(cls, deck: DeckSchema) -> Deck:
-        """The validated schema object ``deck`` as a :class:`Deck` (no new validation)."""
+        """The validated schema object ``deck`` as a :class:`Deck` (no new validation;
+        a :class:`Deck` is returned as it is)."""
+        if isinstance(deck, cls):
+            return deck
         return cls.model_construct(
             _fields_set=set(deck.model_fields_set),
             **{name: getattr(deck, name) for name in DeckSchema.model_fields},

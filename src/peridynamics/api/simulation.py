@@ -16,7 +16,7 @@ from typing import Any
 
 from peridynamics.api.deck import Deck
 from peridynamics.api.result import Result
-from peridynamics.app.checks import built_problem, size_problem
+from peridynamics.app.checks import build_checked
 from peridynamics.app.run import RunInterrupted
 from peridynamics.app.run import Simulation as _RunSimulation
 from peridynamics.build.errors import SetupError
@@ -118,7 +118,7 @@ def _as_callback(cb: Callback | Callable[[State], Any]) -> Callback:
 def _deck_of(deck: Deck | DeckSchema | str | Path | Mapping[str, Any], overrides: Any) -> Deck:
     """Any of the accepted forms of a deck as a validated :class:`Deck`."""
     if isinstance(deck, DeckSchema):
-        plain = deck if isinstance(deck, Deck) else Deck._of(deck)
+        plain = Deck._of(deck)
         return plain.with_(overrides) if overrides else plain
     if isinstance(deck, str | Path):
         return Deck.from_file(deck, overrides)
@@ -204,22 +204,11 @@ class Simulation:
         self.callbacks = [_as_callback(cb) for cb in callbacks]
         self.progress = bool(progress)
         comm = self._comm = _communicator(comm)
-        share = 1.0
-        if comm is not None:
-            from peridynamics.parallel.launch import node_ranks
-
-            share = node_ranks(comm) / comm.Get_size()
-        problem = size_problem(self.deck, allow_large, share=share)
-        if problem is None and self.deck.geometry.type == "mesh":
-            from peridynamics.build.cloud import build_cloud
-
-            problem = size_problem(self.deck, allow_large, build_cloud(self.deck).n_points, share)
-        if problem is None:
-            self._sim = _RunSimulation.from_deck(self.deck, comm)
-            problem = built_problem(self._sim, allow_large)
+        sim, problem = build_checked(self.deck, comm, allow_large)
         if problem:
             key, _, why = problem.partition(": ")
             raise SetupError(key, why.replace("pass --allow-large", "pass allow_large=True"))
+        self._sim: _RunSimulation = sim
         self._tmp: tempfile.TemporaryDirectory[str] | None = None
         if out is None:  # under MPI: rank 0's temporary folder, shared by every rank
             rank = 0 if comm is None else int(comm.Get_rank())
@@ -289,11 +278,11 @@ class Simulation:
             raise RuntimeError("Simulation.step: this simulation has run; make a new one")
         if int(n) < 0:
             raise ValueError(f"Simulation.step(n={n!r}): give a number of steps >= 0")
-        state, solver = self.state, self._sim.solver
         if self._sim.session is not None:
             raise SetupError(
                 "mpiexec", "Simulation.step is serial; under mpiexec use run() with callbacks"
             )
+        state, solver = self.state, self._sim.solver
         for _ in range(int(n)):
             if solver.done(state):
                 break

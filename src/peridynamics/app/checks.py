@@ -151,6 +151,30 @@ def built_problem(sim: Any, allow_large: bool) -> str | None:
     return work_problem(steps, float(sim.model.bonds.n_bonds), allow_large, False)
 
 
+def build_checked(deck: Any, comm: Any, allow_large: bool) -> tuple[Any, str | None]:
+    """Build ``deck`` as ``peridynamics run`` does, between its size checks: the estimate
+    before allocating (a mesh's points counted first), then the built model's time step
+    and work (:func:`built_problem`). Returns ``(simulation, None)``, or ``(None, why)``
+    refused before the build, or ``(simulation, why)`` refused after it. Under MPI
+    (``comm`` of several ranks) every rank calls it; the ranks on one machine share its
+    memory."""
+    from peridynamics.app.run import Simulation
+    from peridynamics.build.cloud import build_cloud
+
+    share = 1.0
+    if comm is not None:  # the ranks on this machine hold their part of the model
+        from peridynamics.parallel.launch import node_ranks
+
+        share = node_ranks(comm) / comm.Get_size()
+    problem = size_problem(deck, allow_large, share=share)
+    if problem is None and deck.geometry.type == "mesh":
+        problem = size_problem(deck, allow_large, build_cloud(deck).n_points, share)
+    if problem:
+        return None, problem
+    sim = Simulation.from_deck(deck, comm)
+    return sim, built_problem(sim, allow_large)
+
+
 def refuse(msg: str) -> int:
     """Print ``msg`` as an invalid deck; the exit code of an invalid deck."""
     err(f"invalid deck:\n  {msg}")

@@ -156,8 +156,11 @@ def run_cases(
         for case in cases:
             records.append(_said(run_one(case, tier, out), quiet, len(records) + 1, len(cases)))
     else:
-        threads = max(1, machine()["cores"] // jobs)
         import multiprocessing
+
+        from peridynamics.parallel.launch import threads_per_process
+
+        threads = threads_per_process(jobs, 1)  # the cores shared among the jobs
 
         ctx = multiprocessing.get_context("spawn")  # no forked Numba threads
         with ProcessPoolExecutor(jobs, mp_context=ctx, initializer=_worker_init,

@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from peridynamics.app.checks import (
+    build_checked,
     built_problem,
     err,
     invalid_deck,
@@ -159,8 +160,7 @@ def _done(args: argparse.Namespace, out: Path, summary: dict[str, Any]) -> None:
 
 def cmd_run(args: argparse.Namespace) -> int:
     """Run a deck."""
-    from peridynamics.app.run import RunInterrupted, Simulation
-    from peridynamics.build.cloud import build_cloud
+    from peridynamics.app.run import RunInterrupted
     from peridynamics.build.errors import SetupError
     from peridynamics.solvers import SimulationUnstable
 
@@ -180,22 +180,10 @@ def cmd_run(args: argparse.Namespace) -> int:
         return EXIT_INVALID
     rank = 0 if comm is None else int(comm.Get_rank())
     quiet = args.quiet or rank != 0  # under mpiexec rank 0 speaks
-    share = 1.0
-    if comm is not None:  # the ranks on this machine hold their part of the model
-        from peridynamics.parallel.launch import node_ranks
-
-        share = node_ranks(comm) / comm.Get_size()
     try:
-        problem = size_problem(deck, args.allow_large, share=share)
-        if problem is None and isinstance(deck.geometry, MeshGeometry):
-            n = build_cloud(deck).n_points
-            problem = size_problem(deck, args.allow_large, n, share)
-        if problem:
-            return refuse(problem) if rank == 0 else EXIT_INVALID
-        sim = Simulation.from_deck(deck, comm)
-        problem = built_problem(sim, args.allow_large)
-        if problem:
-            return refuse(problem)
+        sim, problem = build_checked(deck, comm, args.allow_large)
+        if problem:  # before the build rank 0 speaks; after it, every rank as before
+            return refuse(problem) if sim is not None or rank == 0 else EXIT_INVALID
         if not quiet:
             _notes(deck)
             _announce(deck, sim, out)
