@@ -81,6 +81,22 @@ def _environment(extra: Mapping[str, str] | None) -> Iterator[None]:
                 os.environ[k] = v
 
 
+@contextlib.contextmanager
+def _numba_threads(n: int) -> Iterator[None]:
+    """``n`` Numba threads while the block runs. In this process the count is set, not
+    put into ``os.environ``: Numba reads the environment again at every compile and
+    refuses a NUMBA_NUM_THREADS other than the one its thread pool started with (a kernel
+    compiled after the variable was restored failed so)."""
+    import numba
+
+    before = numba.get_num_threads()
+    numba.set_num_threads(max(1, min(n, int(numba.config.NUMBA_NUM_THREADS))))
+    try:
+        yield
+    finally:
+        numba.set_num_threads(before)
+
+
 def _in_process(
     args: list[str], env: Mapping[str, str] | None, cwd: Path | None
 ) -> subprocess.CompletedProcess:
@@ -90,8 +106,12 @@ def _in_process(
 
     out, err = io.StringIO(), io.StringIO()
     formatwarning = warnings.formatwarning
+    env = dict(env or {})
+    threads = env.pop("NUMBA_NUM_THREADS", None)
     with contextlib.ExitStack() as stack:
         stack.enter_context(_environment(env))
+        if threads is not None:
+            stack.enter_context(_numba_threads(int(threads)))
         if cwd is not None:
             stack.enter_context(contextlib.chdir(cwd))
         stack.enter_context(warnings.catch_warnings())
