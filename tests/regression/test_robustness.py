@@ -32,7 +32,7 @@ def test_unstable_run_stops_with_step_time_and_point(tmp_path) -> None:
     # 5x the stable step (1.92e-7 s): caught at the first check, step 10, at the corner
     # point 0 (the same with default threads, NUMBA_NUM_THREADS=1 and NUMBA_CPU_NAME=generic)
     assert "unstable at step 10, t = 1e-05 s: point 0 at [0.0005, 0.0005]" in msg, msg
-    assert "stable limit 1.92e-07 s" in msg, msg
+    assert "stable limit 2.93e-07 s" in msg, msg
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "unstable"
     assert "unstable at step 10, t = 1e-05 s: point 0" in summary["error"]

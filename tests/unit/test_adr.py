@@ -142,7 +142,10 @@ def test_norm_kernel_follows_the_adr_equations() -> None:
 
 def test_fictitious_density_from_the_stiffness_bound() -> None:
     model = _plate_model()
+    tight = ADRSolver(model).lam  # the per-point bound lowered by the Lanczos estimate
+    model.use_spectral_bound = False
     solver = ADRSolver(model)
+    assert np.all(tight <= solver.lam) and np.any(tight < solver.lam)
     bound = model.stiffness_bound()
     np.testing.assert_array_equal(solver.lam, np.repeat(bound, 2))  # factor 4: 4/4 dt^2 K_i
     # Gershgorin stability for PMB: sum_j |K_ij| / (V_i lambda_i) <= 4 / dt^2

@@ -133,6 +133,13 @@ class CriticalStretchLaw(DamageLaw):
         """(point_s0, family_s0_min): what a force model's fused step breaks bonds at."""
         return self.point_s0, self.family_s0_min
 
+    def stretch_cap(self) -> float:
+        """The largest point s0: a bond's threshold (s0_i + s0_j)/2 is at most that, so
+        after a commit no intact bond is stretched beyond it (``inf`` with no-fail points
+        or without breaking)."""
+        s0 = self.point_s0
+        return float(s0.max()) if s0.size else math.inf
+
     @property
     def proposed(self) -> NDArray[np.uint8]:
         """The last proposal (n_bonds,) uint8."""

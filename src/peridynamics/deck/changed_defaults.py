@@ -30,28 +30,95 @@ def _automatic_step_with_damping(deck: Deck) -> bool:
     return getattr(solver, "time_step", None) is None and float(getattr(solver, "damping", 0.0)) > 0
 
 
-def _spectral_family(deck: Deck) -> bool:
-    """A single-body LPS deck, or correspondence without damage: its bound comes from
-    the Lanczos estimate (:mod:`peridynamics.evaluation.spectral`)."""
-    model = getattr(deck.material, "model", None)
-    if getattr(deck, "bodies", None) or model not in ("lps", "correspondence"):
-        return False
-    damage = getattr(deck, "damage", None)
-    breaks = damage is not None and getattr(damage, "model", "none") != "none"
-    return model == "lps" or not breaks
+def _breaks(damage: object) -> bool:
+    return damage is not None and getattr(damage, "model", "none") != "none"
 
 
-def _spectral_explicit_step(deck: Deck) -> bool:
-    solver = deck.solver
-    return (
-        _spectral_family(deck)
-        and getattr(solver, "type", "explicit") == "explicit"
-        and getattr(solver, "time_step", None) is None
+def _spectral_body(material: object, damage: object) -> bool:
+    """A body whose family takes its bound from the Lanczos estimate: PMB and LPS, and
+    correspondence without damage."""
+    model = getattr(material, "model", None)
+    return model in ("pmb", "bond_based", "lps") or (
+        model == "correspondence" and not _breaks(damage)
     )
 
 
+def _touches(deck: Deck) -> bool:
+    """Contact or rigid bodies: their stiffness is not in the Lanczos estimate."""
+    return getattr(deck, "contact", None) is not None or bool(getattr(deck, "rigid_bodies", None))
+
+
+def _spectral_families(deck: Deck) -> bool:
+    """Every body's family takes its bound from the Lanczos estimate where nothing
+    touches."""
+    if not _spectral_body(deck.material, getattr(deck, "damage", None)):
+        return False
+    for body in getattr(deck, "bodies", None) or ():
+        material = body.material or deck.material
+        damage = body.damage if body.damage is not None else getattr(deck, "damage", None)
+        if not _spectral_body(material, damage):
+            return False
+    return True
+
+
+def _spectral_family(deck: Deck) -> bool:
+    """The deck's bound comes from the Lanczos estimate
+    (:mod:`peridynamics.evaluation.spectral`)."""
+    return _spectral_families(deck) and not _touches(deck)
+
+
+def _lps_touching(deck: Deck) -> bool:
+    """Since 0.3.0 a single-body LPS or correspondence deck with contact or rigid bodies
+    keeps the per-point bound again (0.2.0 took the Lanczos estimate)."""
+    model = getattr(deck.material, "model", None)
+    return (
+        not getattr(deck, "bodies", None)
+        and model in ("lps", "correspondence")
+        and _spectral_families(deck)
+        and _touches(deck)
+    )
+
+
+def _spectral_pmb(deck: Deck) -> bool:
+    """New in 0.3.0: a PMB deck, or several bodies, whose every body takes the Lanczos
+    bound (before: single-body LPS and correspondence decks only)."""
+    if not _spectral_family(deck):
+        return False
+    return bool(getattr(deck, "bodies", None)) or getattr(deck.material, "model", None) in (
+        "pmb",
+        "bond_based",
+    )
+
+
+def _spectral_before(deck: Deck) -> bool:
+    """Since 0.2.0: a single-body LPS deck, or correspondence without damage."""
+    return not getattr(deck, "bodies", None) and _spectral_family(deck) and not _spectral_pmb(deck)
+
+
+def _automatic_explicit_step(deck: Deck) -> bool:
+    solver = deck.solver
+    explicit = getattr(solver, "type", "explicit") == "explicit"
+    return explicit and getattr(solver, "time_step", None) is None
+
+
+def _spectral_explicit_step(deck: Deck) -> bool:
+    return _spectral_before(deck) and _automatic_explicit_step(deck)
+
+
 def _spectral_adr_density(deck: Deck) -> bool:
-    return _spectral_family(deck) and getattr(deck.solver, "type", None) == "adr"
+    return _spectral_before(deck) and getattr(deck.solver, "type", None) == "adr"
+
+
+def _pmb_explicit_step(deck: Deck) -> bool:
+    return _spectral_pmb(deck) and _automatic_explicit_step(deck)
+
+
+def _pmb_adr_density(deck: Deck) -> bool:
+    return _spectral_pmb(deck) and getattr(deck.solver, "type", None) == "adr"
+
+
+def _lps_touching_step(deck: Deck) -> bool:
+    return _lps_touching(deck) and _automatic_explicit_step(deck)
 
 
 CHANGED_DEFAULTS = (
@@ -87,6 +154,34 @@ CHANGED_DEFAULTS = (
         "before 1.4-12 times): fewer iterations, and the converged fields move within "
         "solver.tolerance; tighten solver.tolerance to compare with earlier results",
         _spectral_adr_density,
+    ),
+    ChangedDefault(
+        "solver.time_step",
+        "0.3.0",
+        "the automatic step of a PMB deck (or of several bodies) now comes from a "
+        "Lanczos estimate of the highest frequency, as LPS's does (0.89 of the critical "
+        "step before safety_factor, was 0.50-0.59): 1.5 (2-D) to 1.8 (3-D) times longer "
+        "than before, 1.06 in 1-D; give solver.time_step to keep the old results",
+        _pmb_explicit_step,
+    ),
+    ChangedDefault(
+        "solver.tolerance",
+        "0.3.0",
+        "dynamic relaxation of a PMB deck (or of several bodies) now takes its "
+        "fictitious density from a "
+        "Lanczos estimate of the largest eigenvalue (2-4 times lower than the per-point "
+        "bound): fewer iterations, and the converged fields move within "
+        "solver.tolerance; tighten solver.tolerance to compare with earlier results",
+        _pmb_adr_density,
+    ),
+    ChangedDefault(
+        "solver.time_step",
+        "0.3.0",
+        "with contact or rigid bodies the automatic step is again the per-point bound "
+        "(the contact stiffness is not in the Lanczos estimate of 0.2.0, so that step "
+        "could be unstable in contact): shorter than in 0.2.0; give solver.time_step to "
+        "fix it",
+        _lps_touching_step,
     ),
 )
 

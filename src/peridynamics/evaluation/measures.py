@@ -201,6 +201,24 @@ class Measures:
         bond_based.largest_stretch(self.cloud.x, s.u, b.offsets, b.bond_j, s.intact, 0.0, out)
         return out
 
+    def max_stretch_after_commit(self, s: State, above: float) -> None:
+        """``s.max_stretch`` as ``force_model.update_max_stretch(s, above)`` gives it (the
+        largest stretch of an intact bond of each point where it exceeds ``above``, 0
+        elsewhere), right after an evaluation that committed the damage law at ``s.u``.
+
+        When the law promises that no intact bond is then stretched beyond its
+        :meth:`~peridynamics.families.base.DamageLaw.stretch_cap`, and that cap is below
+        ``above`` with a margin far above rounding (a critical stretch of a few per cent
+        against the stability check's 100 %), the answer is 0 on every point: the pass
+        over the bonds is skipped (it cost about a tenth of a PMB step at the check's
+        default interval).
+        """
+        cap = self.comm.max(self.damage_law.stretch_cap())
+        if (1.0 + cap) * (1.0 + 1e-9) < (1.0 + above) * (1.0 - 1e-9):
+            s.max_stretch[: self._n_families] = 0.0
+        else:
+            self.force_model.update_max_stretch(s, above)
+
     def section_stress(self, u: NDArray, intact: NDArray[np.uint8], position: float) -> float:
         """1-D stress (Pa, tension positive) across the section x = ``position``: the sum
         of the forces of all intact bonds that cross it, divided by the area (Lu & Wang (2016)
@@ -246,13 +264,22 @@ class Measures:
     def spectral_applies(self) -> bool:
         """True when the stable step and :meth:`stiffness_bound` use the Lanczos estimate
         (the family declares ``spectral_bound``, one dof group, not switched off; for a
-        family that ``stiffens_with_damage``, only while no bond can break)."""
+        family that ``stiffens_with_damage``, only while no bond can break; no contact
+        and no rigid bodies: their stiffness is not in the estimate at the reference
+        state, where nothing touches, so they keep the per-point bound's margin)."""
+        if getattr(self, "contact", None) is not None or getattr(self, "rigid", None) is not None:
+            return False
         fm = self.force_model
+        # several bodies (a composite with ``models``): what every body's family declares
+        parts = getattr(fm, "models", None) or (fm,)
         return (
             self.use_spectral_bound
-            and bool(getattr(fm, "spectral_bound", False))
+            and all(getattr(m, "spectral_bound", False) for m in parts)
             and len(fm.dofs()) == 1
-            and not (getattr(fm, "stiffens_with_damage", False) and self._bonds_can_break())
+            and not (
+                any(getattr(m, "stiffens_with_damage", False) for m in parts)
+                and self._bonds_can_break()
+            )
         )
 
     def _bonds_can_break(self) -> bool:

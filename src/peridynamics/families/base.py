@@ -27,6 +27,7 @@ Units: force densities N/m^3, energy densities J/m^3, stiffness bounds N/m^4 (so
 
 from __future__ import annotations
 
+import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar, NamedTuple
@@ -272,6 +273,14 @@ class DamageLaw(ABC):
         """(point_s0 (n,), family_s0_min (n,)) of a critical-stretch law, which a force
         model may apply inside its force pass; None (default) for other laws."""
         return None
+
+    def stretch_cap(self) -> float:
+        """The largest stretch an intact bond can keep after a commit at the State's
+        displacement: after ``trial`` and ``commit`` (or a force pass that runs them),
+        every intact bond is stretched less than this. ``inf`` (default): no such
+        promise. A solver's stability check need not look for bonds stretched beyond
+        it."""
+        return math.inf
 
     @property
     def fused_model(self) -> ForceModel | None:

@@ -170,6 +170,7 @@ class ExplicitSolver:
         if self._friction:
             self.model.time_step = self.dt
         self.last_good: State | None = None
+        self._committed_step = -1  # the step whose positions the damage law last saw
         if self.steps is not None and self.end_time is not None:
             raise ValueError("give at most one of steps and end_time")
         self.n_steps: int | None = (
@@ -321,6 +322,7 @@ class ExplicitSolver:
                 c.apply(s.u, s.v, t_new, dt)
         s.step += 1
         s.t = t_new
+        self._committed_step = s.step
         if s.step % self.check_every == 0:
             self.check(s)
         return StepResult(broken=broken)
@@ -337,9 +339,14 @@ class ExplicitSolver:
         limit = self._blowup_limit
         comm = self.model.comm
         own = comm.owned  # ghost rows are other ranks' points
-        shift = comm.sum_array(s.u[own].sum(axis=0)) / comm.sum(float(len(s.u[own])))
+        total = np.zeros(s.u.shape[1])
+        integrators.column_sums(s.u[own], total)
+        shift = comm.sum_array(total) / comm.sum(float(len(s.u[own])))
         k = int(bond_based.first_bad_point(s.u[own], s.v[own], shift, limit))
-        self.model.force_model.update_max_stretch(s, self.max_stretch)
+        if s.step == self._committed_step:  # damage committed at these positions
+            self.model.max_stretch_after_commit(s, self.max_stretch)
+        else:
+            self.model.force_model.update_max_stretch(s, self.max_stretch)
         stretch = s.max_stretch[own]
         smax = comm.max(float(stretch.max()) if stretch.size else 0.0)
         if k < 0 and smax > self.max_stretch and stretch.size:

@@ -38,6 +38,9 @@ class FDMForceModel(PMBForceModel):
 
     name = "fdm"
     fused_breaking = False
+    #: the classical finite-difference step (the PMB bound with delta = dx), not the
+    #: Lanczos estimate that PMB uses
+    spectral_bound = False
 
     def __init__(self, cloud: PointCloud, bonds: Bonds, material: BondBasedMaterial) -> None:
         super().__init__(cloud, bonds, material)
