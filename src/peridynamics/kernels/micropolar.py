@@ -17,6 +17,7 @@ V_i w_ij = V_j w_ji (Zhou, Zhu & Li (n.d.), eqs 7-12; Diana & Casolo 2019).
 
 from __future__ import annotations
 
+import numpy as np
 from numba import njit, prange
 
 _hot = njit(parallel=True, fastmath=True, error_model="numpy", cache=True)
@@ -97,3 +98,151 @@ def axial_stretch_2d(x, u, offsets, bond_j, inv_length, out):
                 (u[j, 0] - u[i, 0]) * (x[j, 0] - x[i, 0])
                 + (u[j, 1] - u[i, 1]) * (x[j, 1] - x[i, 1])
             ) * (il * il)
+
+
+@_exact
+def pair_stretch_2d(x, u, bond_i, bond_j, inv_length, index, out):
+    """Linearised axial stretch l of the directed bonds ``index`` (m,) into ``out``
+    (m,): the same numbers as :func:`axial_stretch_2d` at those bonds."""
+    for c in prange(index.shape[0]):
+        k = index[c]
+        i = bond_i[k]
+        j = bond_j[k]
+        il = inv_length[k]
+        out[c] = (
+            (u[j, 0] - u[i, 0]) * (x[j, 0] - x[i, 0]) + (u[j, 1] - u[i, 1]) * (x[j, 1] - x[i, 1])
+        ) * (il * il)
+
+
+@njit(fastmath=False, cache=True)
+def _block_sum(buf, q, lo, n):
+    """NumPy's ``pairwise_sum`` of ``buf[lo:lo + n, q]`` for n <= 128: sequential
+    below 8 terms, else 8 interleaved partial sums combined as a tree."""
+    if n < 8:
+        res = 0.0
+        for t in range(lo, lo + n):
+            res += buf[t, q]
+        return res
+    r0, r1, r2, r3 = buf[lo, q], buf[lo + 1, q], buf[lo + 2, q], buf[lo + 3, q]
+    r4, r5, r6, r7 = buf[lo + 4, q], buf[lo + 5, q], buf[lo + 6, q], buf[lo + 7, q]
+    t = 8
+    while t < n - (n % 8):
+        b = lo + t
+        r0 += buf[b, q]
+        r1 += buf[b + 1, q]
+        r2 += buf[b + 2, q]
+        r3 += buf[b + 3, q]
+        r4 += buf[b + 4, q]
+        r5 += buf[b + 5, q]
+        r6 += buf[b + 6, q]
+        r7 += buf[b + 7, q]
+        t += 8
+    res = ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))
+    while t < n:
+        res += buf[lo + t, q]
+        t += 1
+    return res
+
+
+@njit(fastmath=False, cache=True)
+def _pairwise(buf, q, lo, n):
+    """Sum of ``buf[lo:lo + n, q]`` in NumPy's pairwise order (its ``pairwise_sum``:
+    blocks of at most 128 terms by :func:`_block_sum`, longer ranges split in halves
+    (a multiple of 8 first) and the halves added), so that a kernel's family sum has
+    the bits of ``np.add.reduceat``. The halving is walked with an explicit stack."""
+    if n <= 128:
+        return _block_sum(buf, q, lo, n)
+    los = np.empty(64, dtype=np.int64)
+    ns = np.empty(64, dtype=np.int64)
+    stage = np.zeros(64, dtype=np.int64)  # 0: split next, 1: left half pending
+    left = np.empty(64)
+    sp = 0
+    los[0] = lo
+    ns[0] = n
+    ret = 0.0
+    done = False  # ret holds the sum of the range just finished
+    while True:
+        if done:
+            if sp < 0:
+                return ret
+            if stage[sp] == 1:  # the left half is done: walk the right one
+                left[sp] = ret
+                stage[sp] = 2
+                half = ns[sp] // 2
+                half -= half % 8
+                los[sp + 1] = los[sp] + half
+                ns[sp + 1] = ns[sp] - half
+                stage[sp + 1] = 0
+                sp += 1
+                done = False
+            else:  # both halves done
+                ret = left[sp] + ret
+                sp -= 1
+            continue
+        if ns[sp] <= 128:
+            ret = _block_sum(buf, q, los[sp], ns[sp])
+            sp -= 1
+            done = True
+            continue
+        half = ns[sp] // 2
+        half -= half % 8
+        stage[sp] = 1
+        los[sp + 1] = los[sp]
+        ns[sp + 1] = half
+        stage[sp + 1] = 0
+        sp += 1
+
+
+@_exact
+def tangent_blocks_2d(
+    x, volume, offsets, bond_j, inv_length, weight, intact, kn, kt, kphi, diag, off
+):  # fmt: skip
+    """Blocks of the tangent (N/m, N, N m): ``diag`` (n, 3, 3) the family sum of the
+    (i, i) parts of the pair stiffnesses k_ij, ``off`` (n_bonds, 3, 3) the (i, j) part
+    of each (zero for a broken bond); dof order [u_x, u_y, theta]. The same numbers, in
+    the same order of operations, as the NumPy
+    :meth:`peridynamics.families.micropolar.force.MicropolarForceModel.bond_blocks`
+    (the 6 x 6 blocks) and their family sum by ``np.add.reduceat`` (the first block
+    plus the pairwise sum of the others, :func:`_pairwise`)."""
+    n = offsets.shape[0] - 1
+    for i in prange(n):
+        lo = offsets[i]
+        m = offsets[i + 1] - lo
+        buf = np.empty((m, 9))  # the (i, i) parts of the family's blocks
+        bl = np.zeros(6)
+        bg = np.zeros(6)
+        for t in range(m):
+            k = lo + t
+            j = bond_j[k]
+            il = inv_length[k]
+            n0 = (x[j, 0] - x[i, 0]) * il
+            n1 = (x[j, 1] - x[i, 1]) * il
+            bl[0] = -n0 * il
+            bl[1] = -n1 * il
+            bl[3] = n0 * il
+            bl[4] = n1 * il
+            p0 = -n1 * il
+            p1 = n0 * il
+            bg[0] = -p0
+            bg[1] = -p1
+            bg[2] = -0.5
+            bg[3] = p0
+            bg[4] = p1
+            bg[5] = -0.5
+            scale = weight[k] * np.float64(intact[k]) * volume[i] / il
+            sl = kn * scale
+            sg = kt * scale
+            kp = kphi * scale
+            for a in range(3):
+                for c in range(6):
+                    v = sl * bl[a] * bl[c] + sg * bg[a] * bg[c]
+                    if a == 2 and c == 2:
+                        v += kp
+                    elif a == 2 and c == 5:
+                        v -= kp
+                    if c < 3:
+                        buf[t, 3 * a + c] = v
+                    else:
+                        off[k, a, c - 3] = v
+        for q in range(9):
+            diag[i, q // 3, q % 3] = buf[0, q] + _pairwise(buf, q, 1, m - 1) if m else 0.0

@@ -305,7 +305,9 @@ class UpdatedDirect:
         if negligible > 0.0:
             outside = b.copy()
             outside[s] = 0.0
-            inside = float(np.linalg.norm(outside)) <= negligible
+            # no BLAS dot (np.linalg.norm): it wakes OpenBLAS's threads, which then spin
+            # against Numba's workers in the next force evaluation
+            inside = float(np.sqrt(np.sum(np.square(outside)))) <= negligible
         if inside:
             t0 = time.perf_counter()
             bs = b[s]

@@ -60,6 +60,7 @@ from peridynamics.loading.conditions import Fixed, Kinematic
 from peridynamics.loading.time_functions import Constant
 from peridynamics.solvers import linear as lin
 from peridynamics.solvers.base import StepResult
+from peridynamics.solvers.blas_threads import blas_threads
 from peridynamics.solvers.breaking import PairBreaker
 from peridynamics.solvers.explicit import SimulationUnstable
 from peridynamics.solvers.static_checks import check_arguments, check_damage
@@ -67,6 +68,17 @@ from peridynamics.solvers.tangent_system import TangentSystem
 from peridynamics.state import State
 
 _EVENT_MARGIN = 1e-9  # lambda_c is raised by this relative margin so the bond breaks
+#: OpenBLAS threads during a solve: its many small BLAS calls (SuperLU's triangular
+#: solves, the Woodbury products) ran up to 6x faster with one thread than with two on
+#: a shared 2-core machine, and leave Numba's force passes alone
+BLAS_THREADS = 1
+
+
+def _norm(v: NDArray[np.float64]) -> float:
+    """Euclidean norm of a flat vector without BLAS: ``np.linalg.norm``'s dot wakes
+    OpenBLAS's threads, which then spin against Numba's workers and slow the next
+    force evaluation several-fold on a small machine."""
+    return math.sqrt(float(np.sum(np.square(v))))
 
 
 class StaticSolver:
@@ -163,7 +175,8 @@ class StaticSolver:
         self._pending = False
         self._failed: str | None = None
         self._peak_ref = 0.0
-        self._stretch: NDArray[np.float64] | None = None
+        self._ratio: NDArray[np.float64] | None = None  # l / l_c of the candidates
+        self._picked: NDArray[np.int64] | None = None  # the pairs to break next
         self._first_break: tuple[list[float], float] | None = None
         self.stats: dict[str, float] = {
             "solves": 0,
@@ -271,13 +284,13 @@ class StaticSolver:
         self._scatter(q.reshape(-1, self.width), s)
         self.model.evaluate(s, commit=False)
         body = np.concatenate([s[g.body] for g in self.groups], axis=1).reshape(-1)
-        load = float(np.linalg.norm((self._volume * body)[~self.fixed]))
+        load = _norm((self._volume * body)[~self.fixed])
         it = 0
         while True:
             p = self._unbalanced(s)
             free = self.system.free if len(self.system.free) else np.flatnonzero(~self.fixed)
-            ref = max(load, float(np.linalg.norm(p[self.fixed])), self._peak_ref, 1e-300)
-            residual = float(np.linalg.norm(p[free])) / ref
+            ref = max(load, _norm(p[self.fixed]), self._peak_ref, 1e-300)
+            residual = _norm(p[free]) / ref
             if not math.isfinite(residual):
                 return False, it, float("nan")
             if residual <= self.tolerance:
@@ -292,22 +305,33 @@ class StaticSolver:
             self.model.evaluate(s, commit=False)
             it += 1
 
+    def _ratios(self, s: State, breaker: PairBreaker) -> NDArray[np.float64]:
+        """l / l_c of the breaker's candidate pairs at ``s`` (kept until the state or
+        the bond status changes): the stretch of the candidates alone when the force
+        model gives it (``pair_stretch``), else of every bond."""
+        if self._ratio is None:
+            fm = self.model.force_model
+            c = breaker.candidates
+            pair = getattr(fm, "pair_stretch", None)
+            stretch = pair(s, c) if pair is not None else fm.bond_stretch(s)[c]
+            self._ratio = breaker.pair_ratios(stretch, s.intact)
+        return self._ratio
+
     def _violations(self, s: State) -> bool:
-        """Compute (and keep) the bond stretch of the equilibrium ``s``; True when a bond
-        reached its critical stretch."""
+        """Compute (and keep) the stretch ratios and the pairs to break of the
+        equilibrium ``s``; True when a bond reached its critical stretch."""
+        self._ratio = self._picked = None
         if self.breaker is None:
             return False
-        self._stretch = self.model.force_model.bond_stretch(s)
-        return bool(len(self.breaker.select(self._stretch, s.intact)))
+        self._picked = self.breaker.pick(self._ratios(s, self.breaker))
+        return bool(len(self._picked))
 
     def _next_level(self, s: State) -> float:
         """The next load level: k / N, or the next breaking event when scalable."""
         k = math.floor(self.lam * self.load_steps + 1e-9) + 1
         level = min(k / self.load_steps, 1.0)
         if self.scalable and self.event_driven and self.breaker is not None and self.lam > 0:
-            if self._stretch is None:
-                self._stretch = self.model.force_model.bond_stretch(s)
-            factor = self.breaker.critical_factor(self._stretch, s.intact)
+            factor = self.breaker.factor(self._ratios(s, self.breaker))
             event = self.lam * factor * (1.0 + _EVENT_MARGIN)
             if event < level:
                 level = event
@@ -317,10 +341,10 @@ class StaticSolver:
         """Break the bonds the last solve left at or over their critical stretch (the
         breaker's scheme) and update the factorisation; returns the directed bonds
         broken."""
-        if self._stretch is None:
-            self._stretch = self.model.force_model.bond_stretch(s)
-        pairs = breaker.select(self._stretch, s.intact)
-        self._stretch = None
+        pairs = self._picked
+        if pairs is None:
+            pairs = breaker.pick(self._ratios(s, breaker))
+        self._ratio = self._picked = None
         both = breaker.both_directions(pairs)
         if self._first_break is None and len(pairs):
             b = self.model.bonds
@@ -336,7 +360,12 @@ class StaticSolver:
 
     def step(self, s: State) -> StepResult:
         """One equilibrium solve: break bonds first when the last solve left violations
-        (same load), else raise the load to the next level."""
+        (same load), else raise the load to the next level. Runs with
+        :data:`BLAS_THREADS` OpenBLAS threads (:mod:`peridynamics.solvers.blas_threads`)."""
+        with blas_threads(BLAS_THREADS):
+            return self._step(s)
+
+    def _step(self, s: State) -> StepResult:
         t0 = time.perf_counter()
         events: list[str] = []
         broken = 0

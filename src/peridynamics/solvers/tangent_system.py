@@ -172,6 +172,20 @@ class TangentSystem:
             )
         # a point left without stiffness makes the system singular: refactor (pins it)
         touched = np.unique(np.concatenate([b.bond_i[bonds], b.bond_j[bonds]]))
-        alive = np.add.reduceat(s.intact.astype(np.int64), b.offsets[:-1])
-        if np.any(alive[touched] == 0) and np.any(~self.fixed.reshape(-1, w)[touched].all(axis=1)):
+        alive = _intact_count(b.offsets, s.intact, touched)
+        if np.any(alive == 0) and np.any(~self.fixed.reshape(-1, w)[touched].all(axis=1)):
             self.factor = None
+
+
+def _intact_count(
+    offsets: NDArray[np.int64], intact: NDArray[np.uint8], points: NDArray[np.int64]
+) -> NDArray[np.int64]:
+    """Intact bonds of the families of ``points`` (m,), shape (m,): their bond ranges
+    only, not the whole list."""
+    start = offsets[points]
+    count = offsets[points + 1] - start
+    first = np.cumsum(count) - count  # position of each family in the gathered bonds
+    idx = np.repeat(start - first, count) + np.arange(int(count.sum()))
+    got = np.zeros(len(points), dtype=np.int64)
+    np.add.at(got, np.repeat(np.arange(len(points)), count), intact[idx] != 0)
+    return got

@@ -146,6 +146,16 @@ class MicropolarForceModel(ForceModel):
         kern.axial_stretch_2d(self.cloud.x, state.u, b.offsets, b.bond_j, self.inv_length, out)
         return out
 
+    def pair_stretch(self, state: State, index: NDArray[np.int64]) -> NDArray[np.float64]:
+        """Axial stretch l of the directed bonds ``index`` (m,), shape (m,): the numbers
+        of :meth:`bond_stretch` at those bonds, without computing the others."""
+        b = self.bonds
+        out = np.empty(len(index))
+        kern.pair_stretch_2d(
+            self.cloud.x, state.u, b.bond_i, b.bond_j, self.inv_length, index, out
+        )  # fmt: skip
+        return out
+
     # -- bounds and tangent -----------------------------------------------------------------
     def _row_sums(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The bounds of both dof groups, computed once (the undamaged model's)."""
@@ -225,12 +235,21 @@ class MicropolarForceModel(ForceModel):
 
     def tangent(self, state: State) -> sp.csr_matrix:
         """K = d^2 E / dq^2 (N/m, N, N m), shape (3n, 3n), dof order [u_x, u_y, theta]
-        per point; constant (the model is linear), changes only with ``state.intact``."""
-        b = self.bonds
-        pair = self.bond_blocks(state.intact)
-        diag = family_sum(b.offsets, pair[:, 0:3, 0:3])
+        per point; constant (the model is linear), changes only with ``state.intact``.
+
+        The blocks come from one kernel pass over the bonds
+        (:func:`peridynamics.kernels.micropolar.tangent_blocks_2d`: the numbers of
+        :meth:`bond_blocks` and its family sum, bit for bit, without the (n_bonds, 6, 6)
+        temporaries)."""
+        b, k = self.bonds, self.springs
+        diag = np.empty((self.n_points, 3, 3))
+        off = np.empty((b.n_bonds, 3, 3))
+        kern.tangent_blocks_2d(
+            self.cloud.x, self.cloud.volume, b.offsets, b.bond_j, self.inv_length,
+            self.weight, state.intact, k.axial, k.shear, k.rotational, diag, off,
+        )  # fmt: skip
         keep = (state.intact != 0) & (self.weight != 0)
-        return block_csr(b.offsets, b.bond_j, diag, pair[:, 0:3, 3:6], keep, self.n_points)
+        return block_csr(b.offsets, b.bond_j, diag, off, keep, self.n_points)
 
     # -- surface correction ---------------------------------------------------------------
     def _correction_factors(self, bonds: Bonds) -> NDArray[np.float64]:
