@@ -114,14 +114,20 @@ LAMMPS_PAIRS = {
 }
 
 
+#: the package breaks bonds at LAMMPS's s00 (= 0.1, alpha = 0): both codes test every
+#: bond's stretch against it at every step (nothing breaks in these runs)
+S00 = 0.1
+
+
 def package_model(dim: int, n: int, style: str):  # type: ignore[no-untyped-def]
-    """The package's body on the lattice of ``peridynamics bench`` with PMB or LPS."""
+    """The package's body on the lattice of ``peridynamics bench`` with PMB or LPS, bonds
+    breaking at LAMMPS's critical stretch s00."""
     from peridynamics.app.bench import _model
+    from peridynamics.damage.critical_stretch import CriticalStretch
 
     if style == "pmb":
-        return _model(dim, n)
+        return _model(dim, n, CriticalStretch(S00))
     from peridynamics.bonds import build_bonds
-    from peridynamics.damage.critical_stretch import NO_DAMAGE
     from peridynamics.evaluation import Evaluator
     from peridynamics.families.lps import LPSMaterial
     from peridynamics.geometry import box, rectangle
@@ -129,7 +135,7 @@ def package_model(dim: int, n: int, style: str):  # type: ignore[no-untyped-def]
     dx = 1.0e-3  # the bench lattice's spacing
     cloud = rectangle((n * dx, n * dx), dx, thickness=1e-3) if dim == 2 else box((n * dx,) * 3, dx)
     bonds = build_bonds(cloud, 3.015 * dx)
-    return Evaluator(cloud, bonds, LPSMaterial(70e9, 0.25, 2500.0), NO_DAMAGE)
+    return Evaluator(cloud, bonds, LPSMaterial(70e9, 0.25, 2500.0), CriticalStretch(S00))
 
 
 def run_lammps(
@@ -189,9 +195,10 @@ _OLD_SNIPPET = """
 import json, sys, time
 import numpy as np
 from peridynamics.app.bench import _model
+from peridynamics.damage.critical_stretch import CriticalStretch
 from peridynamics.solvers import ExplicitSolver
 dim, n, steps, rounds = (int(a) for a in sys.argv[1:5])
-model = _model(dim, n)
+model = _model(dim, n, CriticalStretch(0.1))
 solver = ExplicitSolver(model)
 state = solver.init()
 state.v[:] = np.random.default_rng(0).normal(scale=1e-3, size=state.v.shape)
