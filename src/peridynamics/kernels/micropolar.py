@@ -194,23 +194,32 @@ def _pairwise(buf, q, lo, n):
 
 
 @_exact
-def tangent_blocks_2d(
-    x, volume, offsets, bond_j, inv_length, weight, intact, kn, kt, kphi, diag, off
+def tangent_csr_2d(
+    x, volume, offsets, bond_j, inv_length, weight, intact, kn, kt, kphi, keep, indptr,
+    indices, data,
 ):  # fmt: skip
-    """Blocks of the tangent (N/m, N, N m): ``diag`` (n, 3, 3) the family sum of the
-    (i, i) parts of the pair stiffnesses k_ij, ``off`` (n_bonds, 3, 3) the (i, j) part
-    of each (zero for a broken bond); dof order [u_x, u_y, theta]. The same numbers, in
-    the same order of operations, as the NumPy
+    """The tangent (N/m, N, N m) as CSR arrays with sorted column indices, dof order
+    [u_x, u_y, theta] per point: block row i holds the diagonal block (the family sum
+    of the (i, i) parts of the pair stiffnesses k_ij) and the (i, j) parts of its bonds
+    with ``keep`` (bool, n_bonds), in the order of j; ``indptr`` (3n + 1,) is given
+    (3 (1 + kept bonds) entries a row), ``indices`` and ``data`` are filled.
+
+    The same numbers, in the same order of operations, as the NumPy
     :meth:`peridynamics.families.micropolar.force.MicropolarForceModel.bond_blocks`
-    (the 6 x 6 blocks) and their family sum by ``np.add.reduceat`` (the first block
-    plus the pairwise sum of the others, :func:`_pairwise`)."""
+    (the 6 x 6 blocks), their family sum by ``np.add.reduceat`` (the first block plus
+    the pairwise sum of the others, :func:`_pairwise`) and
+    :func:`peridynamics.families.assembly.block_csr` with sorted indices."""
     n = offsets.shape[0] - 1
     for i in prange(n):
         lo = offsets[i]
         m = offsets[i + 1] - lo
         buf = np.empty((m, 9))  # the (i, i) parts of the family's blocks
+        blocks = np.empty((m + 1, 3, 3))  # [diagonal, the (i, j) parts]
+        cols = np.empty(m + 1, dtype=np.int64)
+        cols[0] = i
         bl = np.zeros(6)
         bg = np.zeros(6)
+        kept = 0
         for t in range(m):
             k = lo + t
             j = bond_j[k]
@@ -233,6 +242,9 @@ def tangent_blocks_2d(
             sl = kn * scale
             sg = kt * scale
             kp = kphi * scale
+            if keep[k]:
+                kept += 1
+                cols[kept] = j
             for a in range(3):
                 for c in range(6):
                     v = sl * bl[a] * bl[c] + sg * bg[a] * bg[c]
@@ -242,7 +254,15 @@ def tangent_blocks_2d(
                         v -= kp
                     if c < 3:
                         buf[t, 3 * a + c] = v
-                    else:
-                        off[k, a, c - 3] = v
+                    elif keep[k]:
+                        blocks[kept, a, c - 3] = v
         for q in range(9):
-            diag[i, q // 3, q % 3] = buf[0, q] + _pairwise(buf, q, 1, m - 1) if m else 0.0
+            blocks[0, q // 3, q % 3] = buf[0, q] + _pairwise(buf, q, 1, m - 1) if m else 0.0
+        order = np.argsort(cols[: kept + 1])
+        for a in range(3):
+            pos = indptr[3 * i + a]
+            for b in order:
+                for c in range(3):
+                    indices[pos] = 3 * cols[b] + c
+                    data[pos] = blocks[b, a, c]
+                    pos += 1

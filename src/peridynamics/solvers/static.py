@@ -56,14 +56,15 @@ from numpy.typing import NDArray
 
 from peridynamics.damage.critical_stretch import CriticalStretchLaw
 from peridynamics.evaluation import Evaluator
-from peridynamics.loading.conditions import Fixed, Kinematic
+from peridynamics.loading.conditions import Kinematic
 from peridynamics.loading.time_functions import Constant
 from peridynamics.solvers import linear as lin
 from peridynamics.solvers.base import StepResult
 from peridynamics.solvers.blas_threads import blas_threads
 from peridynamics.solvers.breaking import PairBreaker
-from peridynamics.solvers.explicit import SimulationUnstable
-from peridynamics.solvers.static_checks import check_arguments, check_damage
+from peridynamics.solvers.static_checks import check_arguments, check_damage, check_finite
+from peridynamics.solvers.static_dofs import StaticDofs, norm
+from peridynamics.solvers.static_report import summary_fields
 from peridynamics.solvers.tangent_system import TangentSystem
 from peridynamics.state import State
 
@@ -74,14 +75,7 @@ _EVENT_MARGIN = 1e-9  # lambda_c is raised by this relative margin so the bond b
 BLAS_THREADS = 1
 
 
-def _norm(v: NDArray[np.float64]) -> float:
-    """Euclidean norm of a flat vector without BLAS: ``np.linalg.norm``'s dot wakes
-    OpenBLAS's threads, which then spin against Numba's workers and slow the next
-    force evaluation several-fold on a small machine."""
-    return math.sqrt(float(np.sum(np.square(v))))
-
-
-class StaticSolver:
+class StaticSolver(StaticDofs):
     """Newton static solver with load stepping and bond breaking (module docstring).
 
     Parameters
@@ -194,55 +188,6 @@ class StaticSolver:
             model, self.width, self.fixed, linear_solver, self.tolerance, self.reuse, self.stats
         )
 
-    def _fixed_dofs(self) -> NDArray[np.bool_]:
-        """Mask (n width,) of the dofs a condition prescribes: the displacements any
-        condition writes (probed on a NaN array), the rotations of a ``Fixed`` with
-        ``rotation``."""
-        n, d = self.model.n_points, self.model.dim
-        probe = np.full((n, d), np.nan)
-        self._apply(probe, self.load_time)
-        fixed = np.zeros((n, self.width), dtype=bool)
-        fixed[:, :d] = ~np.isnan(probe)
-        if self.width > d:
-            for c in self.constraints:
-                if isinstance(c, Fixed) and c.rotation:
-                    fixed[c.nodes, d:] = True
-        return fixed.reshape(-1)
-
-    # -- loads and dofs -------------------------------------------------------------------
-    def _apply(self, u: NDArray[np.float64], t: float) -> None:
-        scratch = np.zeros_like(u)
-        dt = self.load_time / self.load_steps
-        for c in self.constraints:
-            c.apply(u, scratch, t, dt)
-
-    def _gather(self, s: State) -> NDArray[np.float64]:
-        return np.concatenate([s[g.value] for g in self.groups], axis=1)
-
-    def _scatter(self, q: NDArray[np.float64], s: State) -> None:
-        col = 0
-        for g in self.groups:
-            s[g.value][...] = q[:, col : col + g.components]
-            col += g.components
-
-    def _unbalanced(self, s: State) -> NDArray[np.float64]:
-        """P = V (f + b) over all dofs, flat (n width,)."""
-        f = np.concatenate([s[g.force] + s[g.body] for g in self.groups], axis=1)
-        return self._volume * f.reshape(-1)
-
-    def _set_loads(self, s: State, lam: float) -> NDArray[np.float64]:
-        """Body forces at level lam; returns the flat prescribed values (n width,)."""
-        t = lam * self.load_time
-        scale = lam if self.proportional else 1.0
-        self.model.external_force(t, s.body)
-        if scale != 1.0:
-            s.body *= scale
-        target = np.zeros_like(s.u)
-        self._apply(target, t)
-        q = np.zeros((self.model.n_points, self.width))
-        q[:, : self.model.dim] = scale * target
-        return q.reshape(-1)
-
     # -- life cycle -------------------------------------------------------------------------
     def init(self) -> State:
         """State at lambda = 0 (u = 0), with the load level stored in the State."""
@@ -284,13 +229,13 @@ class StaticSolver:
         self._scatter(q.reshape(-1, self.width), s)
         self.model.evaluate(s, commit=False)
         body = np.concatenate([s[g.body] for g in self.groups], axis=1).reshape(-1)
-        load = _norm((self._volume * body)[~self.fixed])
+        load = norm((self._volume * body)[~self.fixed])
         it = 0
         while True:
             p = self._unbalanced(s)
             free = self.system.free if len(self.system.free) else np.flatnonzero(~self.fixed)
-            ref = max(load, _norm(p[self.fixed]), self._peak_ref, 1e-300)
-            residual = _norm(p[free]) / ref
+            ref = max(load, norm(p[self.fixed]), self._peak_ref, 1e-300)
+            residual = norm(p[free]) / ref
             if not math.isfinite(residual):
                 return False, it, float("nan")
             if residual <= self.tolerance:
@@ -434,20 +379,7 @@ class StaticSolver:
     def check(self, s: State) -> None:
         """Raise :class:`SimulationUnstable` on a non-finite solution; else keep the state
         as the last good one."""
-        q = self._gather(s)
-        bad = ~np.isfinite(q).all(axis=1)
-        if bad.any():
-            k = int(np.argmax(bad))
-            coords = self.model.cloud.x[k].tolist()
-            raise SimulationUnstable(
-                f"the static solution is not finite at point {k} ({coords}) after solve "
-                f"{s.step}: check the constraints (rigid-body motion must be prevented)",
-                step=s.step,
-                time=s.t,
-                point=k,
-                coordinates=coords,
-                last_good=self.last_good,
-            )
+        check_finite(self._gather(s), self.model.cloud.x, s, self.last_good)
         self.last_good = s.snapshot(self.last_good)
 
     def describe(self) -> str:
@@ -459,44 +391,6 @@ class StaticSolver:
         )
 
     def summary_fields(self, state: State) -> dict[str, Any]:
-        """Solver entries of ``summary.json``.
-
-        Keys: ``solver`` ("static"), ``load_steps``, ``load_factor`` (lambda reached),
-        ``solves``, ``newton_iterations``, ``cutbacks``, ``breaking_events``,
-        ``breaking_scheme``, ``linear_solver`` (the one used), ``factorizations``,
-        ``factorization_s``, ``update_column_solves``, ``time_per_event_s`` (wall time
-        per bond-breaking solve), ``reuse_factorization``, ``pinned_points``,
-        ``converged`` (the run reached lambda = 1), ``message``, ``time_step_s`` (None).
-        """
-        st = self.stats
-        events = int(st["events"])
-        if self._failed is not None:
-            message = self._failed
-        elif self.lam >= 1.0 - 1e-12:
-            message = "final load reached"
-        else:
-            message = f"load level {self.lam:.6g} of 1 reached"
-        return {
-            "solver": "static",
-            "load_steps": self.load_steps,
-            "load_factor": self.lam,
-            "solves": int(st["solves"]),
-            "newton_iterations": int(st["newton_iterations"]),
-            "cutbacks": int(st["cutbacks"]),
-            "breaking_events": events,
-            "breaking_scheme": self.scheme,
-            "linear_solver": self.system.method_used or self.linear_solver,
-            "factorizations": int(st["factorizations"]),
-            "factorization_s": float(st["factorization_s"]),
-            "update_column_solves": int(st["update_column_solves"]),
-            "time_per_event_s": float(st["event_s"] / events) if events else None,
-            "reuse_factorization": self.reuse,
-            "pinned_points": int(st["pinned_points"]),
-            "first_break_m": None if self._first_break is None else self._first_break[0],
-            "first_break_load_factor": (
-                None if self._first_break is None else self._first_break[1]
-            ),
-            "converged": self._failed is None and self.lam >= 1.0 - 1e-12,
-            "message": message,
-            "time_step_s": None,
-        }
+        """Solver entries of ``summary.json``
+        (:func:`peridynamics.solvers.static_report.summary_fields`)."""
+        return summary_fields(self, state)

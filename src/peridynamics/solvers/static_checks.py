@@ -7,11 +7,16 @@ import math
 from collections.abc import Sequence
 from typing import Any
 
+import numpy as np
+from numpy.typing import NDArray
+
 from peridynamics.evaluation import Evaluator
 from peridynamics.loading.conditions import Kinematic, PrescribedVelocity
 from peridynamics.solvers import linear as lin
+from peridynamics.solvers.explicit import SimulationUnstable
+from peridynamics.state import State
 
-__all__ = ["check_arguments", "check_damage"]
+__all__ = ["check_arguments", "check_damage", "check_finite"]
 
 
 def _check_int(name: str, value: Any, low: int) -> None:
@@ -63,4 +68,25 @@ def check_damage(model: Evaluator) -> None:
             "[damage.sed_softening] the static solver does not soften bonds (it breaks "
             "them by critical stretch between solves): use solver.type: adr, or remove "
             "sed_softening"
+        )
+
+
+def check_finite(
+    q: NDArray[np.float64], x: NDArray[np.float64], s: State, last_good: State | None
+) -> None:
+    """Raise :class:`SimulationUnstable` when the dofs ``q`` (n, width) of the solution
+    ``s`` are not all finite (``x``: the points' positions (n, dim), m; ``last_good``:
+    the state to report)."""
+    bad = ~np.isfinite(q).all(axis=1)
+    if bad.any():
+        k = int(np.argmax(bad))
+        coords = x[k].tolist()
+        raise SimulationUnstable(
+            f"the static solution is not finite at point {k} ({coords}) after solve "
+            f"{s.step}: check the constraints (rigid-body motion must be prevented)",
+            step=s.step,
+            time=s.t,
+            point=k,
+            coordinates=coords,
+            last_good=last_good,
         )

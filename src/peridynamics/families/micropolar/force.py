@@ -37,7 +37,7 @@ from numpy.typing import NDArray
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.bonds.surface import bond_factors_from_point_ratios
 from peridynamics.communicator import active_comm
-from peridynamics.families.assembly import block_csr, family_sum
+from peridynamics.families.assembly import family_sum
 from peridynamics.families.base import Dof, ForceModel
 from peridynamics.families.micropolar.springs import SpringConstants
 from peridynamics.geometry.cloud import PointCloud
@@ -235,21 +235,33 @@ class MicropolarForceModel(ForceModel):
 
     def tangent(self, state: State) -> sp.csr_matrix:
         """K = d^2 E / dq^2 (N/m, N, N m), shape (3n, 3n), dof order [u_x, u_y, theta]
-        per point; constant (the model is linear), changes only with ``state.intact``.
+        per point, sorted indices; constant (the model is linear), changes only with
+        ``state.intact``.
 
-        The blocks come from one kernel pass over the bonds
-        (:func:`peridynamics.kernels.micropolar.tangent_blocks_2d`: the numbers of
-        :meth:`bond_blocks` and its family sum, bit for bit, without the (n_bonds, 6, 6)
-        temporaries)."""
+        One kernel pass over the bonds writes the CSR arrays
+        (:func:`peridynamics.kernels.micropolar.tangent_csr_2d`): the numbers of
+        :meth:`bond_blocks`, their family sum and :func:`block_csr`, bit for bit,
+        without the per-bond block arrays."""
         b, k = self.bonds, self.springs
-        diag = np.empty((self.n_points, 3, 3))
-        off = np.empty((b.n_bonds, 3, 3))
-        kern.tangent_blocks_2d(
-            self.cloud.x, self.cloud.volume, b.offsets, b.bond_j, self.inv_length,
-            self.weight, state.intact, k.axial, k.shear, k.rotational, diag, off,
-        )  # fmt: skip
+        n = self.n_points
         keep = (state.intact != 0) & (self.weight != 0)
-        return block_csr(b.offsets, b.bond_j, diag, off, keep, self.n_points)
+        cum = np.concatenate([[0], np.cumsum(keep, dtype=np.int64)])
+        per_point = cum[b.offsets[1:]] - cum[b.offsets[:-1]]  # kept bonds of each point
+        per_row = np.repeat(3 * (per_point + 1), 3)
+        indptr = np.zeros(3 * n + 1, dtype=np.int64)
+        np.cumsum(per_row, out=indptr[1:])
+        nnz = int(indptr[-1])
+        index_type = np.int32 if max(nnz, 3 * n) < 2**31 else np.int64
+        indices = np.empty(nnz, dtype=index_type)
+        data = np.empty(nnz)
+        kern.tangent_csr_2d(
+            self.cloud.x, self.cloud.volume, b.offsets, b.bond_j, self.inv_length,
+            self.weight, state.intact, k.axial, k.shear, k.rotational, keep, indptr,
+            indices, data,
+        )  # fmt: skip
+        mat = sp.csr_matrix((data, indices, indptr.astype(index_type)), shape=(3 * n, 3 * n))
+        mat.has_sorted_indices = True
+        return mat
 
     # -- surface correction ---------------------------------------------------------------
     def _correction_factors(self, bonds: Bonds) -> NDArray[np.float64]:
