@@ -2,7 +2,9 @@
 file, with a SHA-256 checksum, written atomically and kept in two generations.
 
 A checkpoint holds ``state_<field>`` for every field of the State, ``records_json``,
-``fingerprint``, ``meta_json`` (when given) and ``checksum``: the SHA-256 of the other
+``fingerprint``, ``meta_json`` (when given), ``extra_<name>`` (arrays about the State
+that are not State fields, when given: the partition of a decomposed run's rank,
+:mod:`peridynamics.io.rank_checkpoints`) and ``checksum``: the SHA-256 of the other
 arrays (each one's name, dtype, shape and bytes, in sorted name order). Reading checks
 the zip, every array header against its size (no pickled data, no array larger than
 the file) and the checksum; any failure is a :class:`DamagedCheckpoint` naming the file
@@ -19,7 +21,7 @@ import json
 import math
 import os
 import zipfile
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import IO, Any
 
@@ -76,6 +78,8 @@ class Checkpoint:
         The fingerprint of the deck that wrote it.
     meta : dict
         The small mapping about the run (``{"finished": true}``; ``{}`` when none).
+    extra : dict of str to ndarray
+        The ``extra`` arrays it was written with (``{}`` when none).
     """
 
     path: Path
@@ -83,6 +87,7 @@ class Checkpoint:
     records: dict[str, Any]
     fingerprint: str
     meta: dict[str, Any]
+    extra: dict[str, np.ndarray] = field(default_factory=dict)
 
 
 def _digest(arrays: dict[str, np.ndarray]) -> np.ndarray:
@@ -137,13 +142,15 @@ def write_checkpoint(
     fingerprint: str,
     meta: dict[str, Any] | None = None,
     name: str = CHECKPOINT_NAME,
+    extra: dict[str, np.ndarray] | None = None,
 ) -> Path:
     """Write ``out_dir/name`` atomically; its path.
 
     Every field of the State is stored, whatever the model family declared (history
     fields such as the SED levels included), as ``state_<name>``, with the records, the
     deck fingerprint, ``meta`` (a small JSON mapping, ``{"finished": true}`` on the final
-    checkpoint of a run; :func:`read_checkpoint_meta`) and the checksum. The file is
+    checkpoint of a run; :func:`read_checkpoint_meta`), the ``extra`` arrays (as
+    ``extra_<name>``; :attr:`Checkpoint.extra`) and the checksum. The file is
     written to ``name + ".tmp"``, fsynced and renamed (a crash leaves at most the
     ``.tmp``, which the next run removes).
 
@@ -162,6 +169,7 @@ def write_checkpoint(
     arrays["fingerprint"] = _text(fingerprint)
     if meta:
         arrays["meta_json"] = _text(json.dumps(meta))
+    arrays.update({f"extra_{k}": np.asarray(v) for k, v in (extra or {}).items()})
     arrays["checksum"] = _digest(arrays)
     with open(tmp, "wb") as fh:
         np.savez(fh, **arrays)
@@ -226,7 +234,8 @@ def _decode(path: Path, arrays: dict[str, np.ndarray]) -> Checkpoint:
     meta = json.loads(bytes(arrays["meta_json"]).decode()) if "meta_json" in arrays else {}
     if not isinstance(records, dict) or not isinstance(meta, dict):
         raise DamagedCheckpoint(path, "its records are not a mapping")
-    return Checkpoint(path, state, records, fingerprint, meta)
+    extra = {k[6:]: v for k, v in arrays.items() if k.startswith("extra_")}
+    return Checkpoint(path, state, records, fingerprint, meta, extra)
 
 
 def _reason(exc: BaseException) -> str:
