@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from peridynamics.families.base import FieldSpec
-from peridynamics.io.repartition import field_kinds, needed_ranks
+from peridynamics.io.repartition import field_kinds, needed_ranks, same_partition
 from peridynamics.state import State
 from tests.helpers import cli, mpiexec
 
@@ -150,3 +150,24 @@ def test_a_rank_reads_the_old_ranks_whose_box_holds_its_points() -> None:
     x = np.array([[0.5, 0.5], [2.0, 1.0]])  # on the edge of box 1 counts
     assert needed_ranks(x, boxes, root=False) == [0, 1]
     assert needed_ranks(x + 4.0 * np.array([1.0, 0.0]), boxes, root=True) == [0, 2]
+
+
+def test_a_changed_partition_is_told_apart() -> None:
+    """Same rank count, other rows or bonds (another version's bisection): repartitioned."""
+    a = {"global_ids": np.arange(4), "n_owned": np.array(2), "offsets": np.array([0, 1, 2]),
+         "bond_j": np.array([1, 0], np.int32)}  # fmt: skip
+    assert same_partition(a, {k: v.copy() for k, v in a.items()})
+    assert not same_partition(a, {**a, "global_ids": np.array([0, 1, 3, 2])})
+    assert not same_partition(a, {**a, "bond_j": np.array([1, 2], np.int32)})
+    assert not same_partition(a, {k: v for k, v in a.items() if k != "offsets"})
+
+
+def test_one_process_resume_of_a_decomposed_run_names_mpiexec(tmp_path: Path) -> None:
+    deck = tmp_path / "plate.yaml"
+    deck.write_text(PLATE_DECK.replace("MODEL", "pmb"))
+    out = tmp_path / "cut"
+    out.mkdir()
+    (out / "checkpoint_mpi.json").write_text(json.dumps({"step": 40, "ranks": 2}))
+    proc = cli("run", deck, "--quiet", "--resume", out)
+    assert proc.returncode == 2
+    assert "written by a decomposed run" in proc.stderr and "mpiexec -n 2" in proc.stderr

@@ -32,6 +32,9 @@ def read_resume(session: Any, out: Path) -> tuple[State, dict[str, Any], dict[st
             ck, problem = read_usable(out)
         except NoUsableCheckpoint as exc:
             raise SetupError("--resume", f"{exc}{_START_AGAIN}") from None
+        except FileNotFoundError:
+            _refuse_decomposed(out)
+            raise
         note = None if problem is None else f"{problem}; resuming from the previous one {ck.path}"
         _warn(note)
         return ck.state, ck.records, ck.meta, ck.fingerprint
@@ -46,6 +49,20 @@ def read_resume(session: Any, out: Path) -> tuple[State, dict[str, Any], dict[st
     if session.root:  # rank 0 speaks for every rank
         _warn(note)
     return state, records, meta, fp
+
+
+def _refuse_decomposed(out: Path) -> None:
+    """SetupError (``--resume``) when ``out`` holds the checkpoint of a decomposed run
+    (its marker) but no serial one: a one-process run cannot read per-rank files."""
+    from peridynamics.io.rank_checkpoints import MARKER
+
+    if (out / MARKER).is_file():
+        raise SetupError(
+            "--resume",
+            f"the checkpoint in {str(out)!r} was written by a decomposed run ({MARKER}, "
+            "one file per rank); resume it with mpiexec -n 2 or more (any rank count: "
+            "the checkpoint is repartitioned), a one-process run reads checkpoint.npz",
+        )
 
 
 def _completed(out: Path) -> bool:

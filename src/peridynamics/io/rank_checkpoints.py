@@ -50,6 +50,7 @@ from peridynamics.io.repartition import (
     owned_boxes,
     partition_arrays,
     rebuild_state,
+    same_partition,
 )
 from peridynamics.parallel.session import Session, rank_dir
 from peridynamics.state import State
@@ -186,11 +187,12 @@ def read_rank_checkpoint(
     marker names whose files every rank reads back intact; ``note`` (the same on every
     rank) says why the newest was passed over (``None`` when it was not).
 
-    A checkpoint of another number of ranks is repartitioned
-    (:func:`_read_repartitioned`). Raises ResumeError (on every rank) when there is no
-    usable marker or the checkpoint cannot be repartitioned, and NoUsableCheckpoint
-    (naming each rank's file and its reason) when no step it names is intact on every
-    rank."""
+    A checkpoint of another number of ranks, or of as many ranks on another partition
+    (its stored partition differs from this run's on some rank: another version's
+    bisection), is repartitioned (:func:`_read_repartitioned`). Raises ResumeError (on
+    every rank) when there is no usable marker or the checkpoint cannot be
+    repartitioned, and NoUsableCheckpoint (naming each rank's file and its reason) when
+    no step it names is intact on every rank."""
     comm, out = session.comm, Path(out)
     info: Any = comm.bcast(_read_marker(out) if session.root else None)
     if isinstance(info, str):
@@ -205,6 +207,9 @@ def read_rank_checkpoint(
             problems += bad
             continue
         assert ck is not None
+        moved = "global_ids" in ck.extra and not same_partition(ck.extra, partition_arrays(session))
+        if any(comm.gather_objects(moved)):  # another partition of as many ranks
+            return _read_repartitioned(session, out, info)
         note = None
         if problems:
             rank, why = problems[0]

@@ -70,6 +70,12 @@ def partition_arrays(session: Any) -> dict[str, NDArray]:
     }
 
 
+def same_partition(a: dict[str, NDArray], b: dict[str, NDArray]) -> bool:
+    """Whether two :func:`partition_arrays` describe the same rows and bonds."""
+    keys = ("global_ids", "n_owned", "offsets", "bond_j")
+    return all(k in a and k in b and np.array_equal(a[k], b[k]) for k in keys)
+
+
 def owned_boxes(session: Any) -> list[list[list[float]]]:
     """Every rank's owned bounding box ``[[lo...], [hi...]]`` (m), in rank order, the same
     on every rank (collective the first time: one allgather; then kept in
