@@ -175,6 +175,8 @@ def write_rank_checkpoints(
         for rank in range(comm.size, int(old["ranks"])):  # a run on more ranks left them
             for stale in rank_dir(base, rank).glob("checkpoint_*.npz"):
                 stale.unlink(missing_ok=True)
+            # its bond list (an interrupted run's outputs): read_bonds joins every rank's
+            (rank_dir(base, rank) / "bonds.npz").unlink(missing_ok=True)
             with contextlib.suppress(OSError):  # gone, or holding other files
                 rank_dir(base, rank).rmdir()
     return marker
@@ -269,9 +271,14 @@ def _read_repartitioned(
             elif ck is not None:
                 cks[r] = ck
         sums = {r: _sums(ck.state, kinds) for r, ck in cks.items()}
-        every = comm.gather_objects((here, refusal, sums))
-        _agree(session, next((f for _, f, _ in every if f), None))
-        bad = [p for h, _, _ in every for p in h]
+        decks = {ck.fingerprint for ck in cks.values()}
+        every = comm.gather_objects((here, refusal, sums, decks))
+        refusal = next((f for _, f, _, _ in every if f), None)
+        if refusal is None and len(set().union(*(d for *_, d in every))) > 1:
+            refusal = f"the files of step {step} in {str(out)!r} were written by different decks"
+        if refusal is not None:  # every rank has every rank's answer
+            raise ResumeError(refusal)
+        bad = [p for h, *_ in every for p in h]
         if bad:
             problems += bad
             continue
@@ -301,7 +308,7 @@ def _add_sums(state: State, kinds: dict[str, str], every: list[Any], root: bool)
     """Every old rank's ``bonds_broken`` and summed fields (each counted once, in old
     rank order) into the new rank 0's ``state``; zero elsewhere."""
     shares: dict[int, tuple[int, dict[str, Any]]] = {}
-    for _, _, sums in every:
+    for _, _, sums, _ in every:
         shares.update(sums)
     state.bonds_broken = sum(shares[r][0] for r in sorted(shares)) if root else 0
     for name, kind in kinds.items():
