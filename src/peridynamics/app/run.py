@@ -361,6 +361,7 @@ class RunLoop:
             files += ob.finalize(ctx, s, results)
         if ranks is not None and self.session is not None:  # the peak after every output
             ranks["peak_rss_gib_per_rank"] = self.session.call("call", gather_rss)
+            ranks["to_root"] = self.session.to_root()  # the gather audit (docs/mpi.md)
         n_b = m.bonds.n_bonds
         timing: dict[str, Any] = {
             "wall_s": wall,

@@ -55,7 +55,7 @@ def gather_intact(session: Any) -> NDArray[np.bool_] | None:
     n = np.int64(session.global_cloud.n_points)
     key = gid[rows] * n + gid[np.asarray(b.bond_j[:end])]
     mine = (key, np.asarray(s.intact[:end], dtype=bool))
-    parts = session.comm.comm.gather(mine, root=0)  # to rank 0 only (mpi4py)
+    parts = session.comm.gather_root(mine)  # to rank 0 only, counted (to_root)
     if not session.root:
         return None
     keys = np.concatenate([k for k, _ in parts])

@@ -34,6 +34,9 @@ class MPICommunicator:
     owned : slice of the owned rows of every per-point array.
     n_owned, n_global : owned points here, points of the whole body.
     exchange_s : wall time spent in :meth:`exchange` (s), for the communication share.
+    to_root_bytes : rank 0: bytes of the arrays gathered onto it by :meth:`gather_points_root`
+        and :meth:`gather_root`, by label (the request being served, :attr:`to_root_label`;
+        the whole gathered array, rank 0's own rows included).
     """
 
     def __init__(self, comm: Any, layout: Layout) -> None:
@@ -49,6 +52,8 @@ class MPICommunicator:
         self.n_global = int(layout.part.shape[0])
         self.exchange_s = 0.0
         self.exchanges = 0
+        self.to_root_bytes: dict[str, int] = {}
+        self.to_root_label = "other"
         counts = np.bincount(layout.part, minlength=self.size)
         self._counts = counts.astype(np.int64)
         self._displs = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int64)
@@ -149,14 +154,37 @@ class MPICommunicator:
         self.comm.Gatherv(
             own.reshape(-1), [out, self._counts * width, self._displs * width, None], root=0
         )
+        self._count_to_root(out.nbytes)
         by_rank = out.reshape((self.n_global, *tail))
         glob = np.empty_like(by_rank)
         glob[self._order] = by_rank
         return glob
 
+    def gather_root(self, obj: Any) -> list[Any] | None:
+        """``obj`` of every rank, in rank order, on rank 0 (pickled); ``None`` elsewhere.
+        The bytes of the numpy arrays received are counted in :attr:`to_root_bytes`."""
+        parts = self.comm.gather(obj, root=0)
+        if parts is None:
+            return None
+        self._count_to_root(sum(_nbytes(p) for p in parts))
+        return list(parts)
+
+    def _count_to_root(self, n: int) -> None:
+        label = self.to_root_label
+        self.to_root_bytes[label] = self.to_root_bytes.get(label, 0) + int(n)
+
     def gather_objects(self, obj: Any) -> list[Any]:
         """``obj`` of every rank, in rank order, on every rank (pickled; small data)."""
         return list(self.comm.allgather(obj))
+
+
+def _nbytes(obj: Any) -> int:
+    """Bytes of the numpy arrays in ``obj`` (an array, or tuples and lists of them)."""
+    if isinstance(obj, np.ndarray):
+        return int(obj.nbytes)
+    if isinstance(obj, (tuple, list)):
+        return sum(_nbytes(o) for o in obj)
+    return 0
 
 
 def build_exchange_lists(

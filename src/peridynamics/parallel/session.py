@@ -69,12 +69,30 @@ class Session:
         }
         #: what requests keep between steps (the crack meter of the crack outputs)
         self.cache: dict[str, Any] = {}
+        #: rank 0: requests made, by label (:func:`request_label`)
+        self.requests: dict[str, int] = {}
 
     # -- the protocol --------------------------------------------------------------------
     def call(self, name: str, *args: Any) -> Any:
         """Rank 0: run request ``name`` on every rank; its result (rank 0's part)."""
         self.comm.comm.bcast((name, args), root=0)
-        return self._handlers[name](*args)
+        label = request_label(name, args)
+        self.requests[label] = self.requests.get(label, 0) + 1
+        self.comm.to_root_label = label
+        try:
+            return self._handlers[name](*args)
+        finally:
+            self.comm.to_root_label = "other"
+
+    def to_root(self) -> dict[str, dict[str, int]]:
+        """Rank 0: what its requests gathered onto it so far, by request label: the
+        number of requests and the bytes of the arrays received (the audit of
+        ``timing.to_root`` in ``summary.json``)."""
+        got = self.comm.to_root_bytes
+        return {
+            k: {"requests": self.requests.get(k, 0), "bytes": int(got.get(k, 0))}
+            for k in sorted(set(self.requests) | set(got))
+        }
 
     def end_step(self, payload: Any = None) -> Any:
         """Rank 0: release the serving ranks; they return ``payload``."""
@@ -99,10 +117,25 @@ class Session:
     def _gather(self, name: str) -> NDArray | None:
         return self._to_root(self._local()[name])
 
+    def local_damage(self) -> NDArray:
+        """This rank's point damage of its state (local points), computed once per
+        step for the requests that read it (the gather of ``damage``, the frames)."""
+        s = self._local()
+        key = (id(s), s.step, s.t)
+        got = self.cache.get("damage")
+        if got is None or got[0] != key:
+            m = self.model
+            got = self.cache["damage"] = (
+                key,
+                m.point_damage(s.intact, s.fields.get("interface_intact")),
+            )
+        return got[1]
+
     def _damage(self, initial: bool) -> NDArray | None:
         m, s = self.model, self._local()
-        flags = m.bonds.bond_intact if initial else s.intact
-        return self._to_root(m.point_damage(flags, s.fields.get("interface_intact")))
+        if not initial:
+            return self._to_root(self.local_damage())
+        return self._to_root(m.point_damage(m.bonds.bond_intact, s.fields.get("interface_intact")))
 
     def _sed_field(self, u_global: NDArray) -> NDArray | None:
         """Strain-energy density of a whole-body displacement (every rank got it with
@@ -124,6 +157,16 @@ class Session:
 
     def _callable(self, fn: Callable[..., Any], *args: Any) -> Any:
         return fn(self, *args)
+
+
+def request_label(name: str, args: tuple[Any, ...]) -> str:
+    """The label of a request in the gather audit: ``gather:<field>``,
+    ``attr:<name>``, ``call:<function>`` or the request's name."""
+    if name in ("gather", "attr") and args:
+        return f"{name}:{args[0]}"
+    if name == "call" and args:
+        return f"call:{getattr(args[0], '__name__', type(args[0]).__name__)}"
+    return name
 
 
 class _LazyFields(dict):  # type: ignore[type-arg]

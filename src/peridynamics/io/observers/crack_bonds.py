@@ -93,7 +93,7 @@ def _crack_on_ranks(session: Any, what: str, separating: bool) -> Any:
     idx, w = idx[keep], w[keep]
     if what == "measure":
         return comm.sum(float(w.sum()))
-    parts = comm.comm.gather((meter.midpoints(idx), w), root=0)
+    parts = comm.gather_root((meter.midpoints(idx), w))
     if not session.root:
         return None
     mids = np.concatenate([p[0] for p in parts]).reshape(-1, m.dim)
@@ -116,7 +116,7 @@ def _orientation_table(session: Any) -> NDArray[np.float64]:
     chosen = np.zeros(b.n_points, dtype=bool)
     chosen[:n_own] = np.isin(gid[:n_own], pts)
     k = np.flatnonzero(chosen[b.bond_i])
-    parts = comm.comm.gather((gid[b.bond_i[k]], b.bond_xi[k]), root=0)
+    parts = comm.gather_root((gid[b.bond_i[k]], b.bond_xi[k]))
     table = None
     if session.root:
         owner = np.concatenate([p[0] for p in parts])
@@ -130,7 +130,7 @@ def _broken_pairs_on_ranks(session: Any) -> tuple[NDArray[np.intp], NDArray[np.i
     """Every rank: its owned bonds broken during the run, in global ids, on rank 0."""
     i, j = broken_pairs(session.model, session.state)
     gid = session.model.cloud.global_ids
-    parts = session.comm.comm.gather((gid[i], gid[j]), root=0)
+    parts = session.comm.gather_root((gid[i], gid[j]))
     if not session.root:
         return None
     return (
