@@ -255,11 +255,6 @@ class GlobalModel:
         self.cloud = session.global_cloud
         self.comm = SERIAL
         self.bonds = _BondsView(session, n_bonds)
-        part = session.comm.layout.part
-        order = np.argsort(part, kind="stable")
-        bounds = np.searchsorted(part[order], np.arange(session.comm.size + 1))
-        #: global ids of each rank's owned points (frames are written one piece per rank)
-        self.point_ranks = [order[bounds[r] : bounds[r + 1]] for r in range(session.comm.size)]
 
     def __getattr__(self, name: str) -> Any:  # material, force_model, rigid, ...
         return getattr(self._local, name)

@@ -14,6 +14,12 @@ Events (``output.frames_on``):
 
 Event frames are ``event_<name>.vtu`` (not in the PVD series); ``results.events``
 holds the time, step (and load) of each event that happened.
+
+In a decomposed run (``mpiexec -n N``) a frame is ``<name>.pvtu`` with one piece per
+rank, and every rank writes its own piece from its own state
+(:mod:`peridynamics.io.observers.frame_pieces`), the kept ``peak_load`` frame included:
+no field of a frame is gathered on rank 0. The PNGs of ``output.png_frames`` draw the
+whole body: they still gather the displacement and the damage on rank 0.
 """
 
 from __future__ import annotations
@@ -85,8 +91,13 @@ class VTKFrames(Observer):
     def frame(self, ctx: RunContext, s: State, name: str | None = None) -> str:
         """Write one frame (``name``: a one-off file outside the series); returns its
         file name."""
-        data = frame_fields(self.run.output, s, ctx.damage(s))
-        fname = self._write(ctx.out / (name or f"frame_{s.step:07d}.vtu"), data)
+        path = ctx.out / (name or f"frame_{s.step:07d}.vtu")
+        if ctx.session is not None:  # a decomposed run: every rank writes its own piece
+            from peridynamics.io.observers.frame_pieces import write_frame
+
+            fname = write_frame(ctx.session, path, self.run.output)
+        else:
+            fname = self._write(path, frame_fields(self.run.output, s, ctx.damage(s)))
         if name is None:
             frames = [f for f in ctx.records["vtk_frames"] if f[1] != fname]
             frames.append((s.t, fname))
@@ -97,26 +108,12 @@ class VTKFrames(Observer):
         return fname
 
     def _write(self, path: Path, data: dict[str, NDArray]) -> str:
-        """Write a frame; its file name. A decomposed run writes one piece per rank
-        (the points it owns) and a ``.pvtu`` file that joins them (the name returned)."""
+        """Write a frame of a serial run (the whole body's ``data``); its file name."""
         o = self.run.output
         compression = None if o.frame_compression == "none" else o.frame_compression
-        ranks = getattr(self.model, "point_ranks", None)
-        x = self.model.cloud.x
-        if ranks is None:
-            write_vtu(path, x, data, precision=o.frame_precision, compression=compression)
-            return path.name
-        from peridynamics.io.pvtu import piece_name, pvtu_fields, write_pvtu
-
-        pieces = []
-        for r, idx in enumerate(ranks):
-            pieces.append(piece_name(path.name, r))
-            piece = {k: v[idx] for k, v in data.items()}
-            write_vtu(path.parent / pieces[-1], x[idx], piece, precision=o.frame_precision,
-                      compression=compression)  # fmt: skip
-        target = path.with_suffix(".pvtu")
-        write_pvtu(target, pieces, o.frame_precision, pvtu_fields(data, o.frame_precision))
-        return target.name
+        write_vtu(path, self.model.cloud.x, data, precision=o.frame_precision,
+                  compression=compression)  # fmt: skip
+        return path.name
 
     def _png(self, ctx: RunContext, s: State, fname: str) -> None:
         from peridynamics.io.figures import deformed_figure
@@ -182,7 +179,11 @@ class VTKFrames(Observer):
         if load is None or (self._peak is not None and abs(load) <= abs(self._peak[0])):
             return
         snap = {}
-        if "peak_load" in self.events:
+        if "peak_load" in self.events and ctx.session is not None:  # every rank its piece
+            from peridynamics.io.observers.frame_pieces import hold_frame
+
+            hold_frame(ctx.session, "peak_load", self.run.output)
+        elif "peak_load" in self.events:
             data = frame_fields(self.run.output, s, ctx.damage(s))
             snap = {k: np.array(v, dtype=np.float32 if self._f32 else np.float64)
                     for k, v in data.items()}  # fmt: skip
@@ -197,7 +198,13 @@ class VTKFrames(Observer):
     def _write_peak(self, ctx: RunContext) -> None:
         if self._peak is None or self._peak_written or "peak_load" not in self.events:
             return
-        name = self._write(ctx.out / "event_peak_load.vtu", self._peak[3])
+        path = ctx.out / "event_peak_load.vtu"
+        if ctx.session is not None:  # every rank writes the piece it kept
+            from peridynamics.io.observers.frame_pieces import write_frame
+
+            name = write_frame(ctx.session, path, self.run.output, held="peak_load")
+        else:
+            name = self._write(path, self._peak[3])
         ctx.records["events"]["peak_load"]["file"] = name
         self._peak_written = True
 
