@@ -10,6 +10,12 @@ bonds and reduced. Each request is broadcast by rank 0 (:meth:`Session.call`); t
 other ranks wait in :meth:`Session.serve` and answer it until rank 0 ends the step. All
 decisions that depend on observer results (stop, events) are taken by rank 0 alone, so
 the ranks cannot disagree and no observer needs to know it runs distributed.
+
+Outputs that every rank can write from its own part do so through a ``"call"`` request
+instead of a gather: the frames (:mod:`peridynamics.io.observers.frame_pieces`: every
+rank writes its piece), the checkpoints and the bond list. Rank 0 counts the requests
+it makes and the bytes gathered onto it for each (:meth:`Session.to_root`, reported as
+``timing.to_root`` in ``summary.json``: the audit of docs/mpi.md).
 """
 
 from __future__ import annotations
