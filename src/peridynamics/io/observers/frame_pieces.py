@@ -5,7 +5,7 @@ Rank 0 runs the frames observer (:class:`~peridynamics.io.observers.frames.VTKFr
 like every observer; for a frame it makes one request through the run's session
 (:meth:`peridynamics.parallel.session.Session.call`) that every rank serves with
 :func:`_write_piece`: the rank computes the frame's point fields
-(:func:`~peridynamics.io.observers.frames.frame_fields`) from its own state, with the
+(:func:`frame_fields`) from its own state, with the
 point damage of its own bonds, keeps the rows of its owned points (in global id order,
 as the gather put them) and writes them as piece ``r`` of the frame
 (:func:`~peridynamics.io.pvtu.piece_name`) with the same precision and compression as a
@@ -27,12 +27,33 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from peridynamics.io.observers.frames import frame_fields
 from peridynamics.io.options import Output
 from peridynamics.io.pvtu import piece_name, pvtu_fields, write_pvtu
 from peridynamics.io.vtk import write_vtu
+from peridynamics.state import State
 
-__all__ = ["hold_frame", "write_frame"]
+
+def frame_fields(output: Output, s: State, damage: NDArray) -> dict[str, NDArray]:
+    """The point fields of a frame, as chosen by ``output.fields``."""
+    fields = output.fields
+    data: dict[str, NDArray] = {}
+    if "displacement" in fields:
+        data["displacement"] = s.u
+    if "velocity" in fields:
+        data["velocity"] = s.v
+    if "damage" in fields:
+        data["damage"] = damage
+    if "force_density" in fields:
+        data["force_density"] = s.force
+    if "theta" in s:  # micropolar: point rotation (rad) and moment density (N m/m^3)
+        if "rotation" in fields:
+            data["rotation"] = s["theta"][:, 0]
+        if "moment" in fields:
+            data["moment_density"] = s["moment"][:, 0]
+    return data
+
+
+__all__ = ["frame_fields", "hold_frame", "write_frame"]
 
 
 def write_frame(session: Any, path: Path, output: Output, held: str | None = None) -> str:

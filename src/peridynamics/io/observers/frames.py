@@ -31,6 +31,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.io.observers.base import Observer, RunContext, RunOptions
+from peridynamics.io.observers.frame_pieces import frame_fields
 from peridynamics.io.options import Output, load_source
 from peridynamics.io.vtk import write_pvd, write_vtu
 from peridynamics.solvers.base import StepResult
@@ -38,26 +39,6 @@ from peridynamics.state import State
 
 if TYPE_CHECKING:
     from peridynamics.evaluation import Evaluator
-
-
-def frame_fields(output: Output, s: State, damage: NDArray) -> dict[str, NDArray]:
-    """The point fields of a frame, as chosen by ``output.fields``."""
-    fields = output.fields
-    data: dict[str, NDArray] = {}
-    if "displacement" in fields:
-        data["displacement"] = s.u
-    if "velocity" in fields:
-        data["velocity"] = s.v
-    if "damage" in fields:
-        data["damage"] = damage
-    if "force_density" in fields:
-        data["force_density"] = s.force
-    if "theta" in s:  # micropolar: point rotation (rad) and moment density (N m/m^3)
-        if "rotation" in fields:
-            data["rotation"] = s["theta"][:, 0]
-        if "moment" in fields:
-            data["moment_density"] = s["moment"][:, 0]
-    return data
 
 
 def load_value(output: Output, records: dict[str, Any]) -> float | None:
