@@ -3,18 +3,17 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from peridynamics.state import State
-
-if TYPE_CHECKING:
-    from peridynamics.solvers.static import StaticSolver
 
 __all__ = ["summary_fields"]
 
 
-def summary_fields(solver: StaticSolver, state: State) -> dict[str, Any]:
-    """Solver entries of ``summary.json`` of a static run.
+def summary_fields(solver: Any, state: State) -> dict[str, Any]:
+    """Solver entries of ``summary.json`` of a static run (``solver``: the
+    :class:`~peridynamics.solvers.static.StaticSolver`; typed ``Any`` so that this module
+    does not import the solver that imports it).
 
     Keys: ``solver`` ("static"), ``load_steps``, ``load_factor`` (lambda reached),
     ``solves``, ``newton_iterations``, ``cutbacks``, ``breaking_events``,
