@@ -123,6 +123,7 @@ class CriticalStretchLaw(DamageLaw):
         self.point_s0 = criterion.point_threshold(n, global_ids)
         self.family_s0_min = family_minimum(bonds, self.point_s0)
         self._proposed = np.zeros(bonds.n_bonds, dtype=np.uint8)
+        self._counts: NDArray[np.int64] | None = None  # proposals per point (scratch)
         self._count = 0
 
     @property
@@ -146,16 +147,23 @@ class CriticalStretchLaw(DamageLaw):
         return self._proposed
 
     def trial(self, state: State) -> int:
-        from peridynamics.kernels.bond_based import break_trial
+        """Propose the intact bonds whose stretch reaches (s0_i + s0_j)/2: the exact test
+        of :func:`~peridynamics.kernels.bond_based.break_trial` on the families a
+        vectorised filter finds near breaking
+        (:func:`~peridynamics.kernels.bond_trial.break_trial_filtered`, the same
+        proposals)."""
+        from peridynamics.kernels.bond_trial import break_trial_filtered
 
         if not self.active:
             self._count = 0
             return 0
         b = self.bonds
+        if self._counts is None:
+            self._counts = np.zeros(len(b.offsets) - 1, dtype=np.int64)
         self._count = int(
-            break_trial(
+            break_trial_filtered(
                 self.x, state.u, b.offsets, b.bond_j, state.intact, self.point_s0,
-                self._proposed,
+                self.family_s0_min, self._proposed, self._counts,
             )
         )  # fmt: skip
         return self._count
