@@ -8,8 +8,7 @@ import pytest
 from peridynamics.bonds import build_bonds
 from peridynamics.damage.critical_stretch import family_minimum
 from peridynamics.geometry import bar, box, rectangle
-from peridynamics.kernels.bond_based import break_trial
-from peridynamics.kernels.bond_trial import break_trial_filtered
+from peridynamics.kernels.bond_trial import break_trial, break_trial_filtered
 
 CLOUDS = {
     1: lambda: bar(0.06, 1e-3, 1e-6),

@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds
-from peridynamics.kernels import bond_based
+from peridynamics.kernels import bond_based, bond_trial
 
 
 class InterfaceBonds:
@@ -136,7 +136,7 @@ class InterfaceBonds:
             return 0
         b = self.bonds
         self._count = int(
-            bond_based.break_trial(x, u, b.offsets, b.bond_j, intact, self._s0, self._proposed)
+            bond_trial.break_trial(x, u, b.offsets, b.bond_j, intact, self._s0, self._proposed)
         )
         return self._count
 

@@ -158,9 +158,10 @@ def _break_family(i, x, u, offsets, bond_j, intact, s0):
     """Break the bonds of point ``i`` whose stretch reaches (s0_i + s0_j) / 2.
 
     Not inlined and compiled without fast-math: a scalar loop whose every decision has
-    the same bits as :func:`break_trial`'s, so point ``i`` and point ``j`` take the same
-    decision for the same bond. Returns the number of bonds broken. Called with ``i``
-    unsigned (the type of prange's index in the parallel loop): compiled once.
+    the same bits as :func:`peridynamics.kernels.bond_trial.break_trial`'s, so point
+    ``i`` and point ``j`` take the same decision for the same bond. Returns the number of
+    bonds broken. Called with ``i`` unsigned (the type of prange's index in the parallel
+    loop): compiled once.
     """
     broken = 0
     for k in range(offsets[i], offsets[i + 1]):
@@ -462,24 +463,6 @@ def stiffness_bound_per_point(x, offsets, bond_j, stiffness, out):
         for k in range(offsets[i], offsets[i + 1]):
             acc += stiffness[k] / _length(i, bond_j[k], x)
         out[i] = acc
-
-
-@_exact
-def break_trial(x, u, offsets, bond_j, intact, s0, proposed):
-    """Critical-stretch trial: ``proposed[k] = 1`` for every intact bond whose stretch
-    reaches (s0_i + s0_j) / 2, else 0; ``intact`` is not changed. Returns the number of
-    directed bonds proposed. The stretch is computed as in the force kernels'
-    breaking pass, so both directions of a bond get the same decision."""
-    n = offsets.shape[0] - 1
-    count = 0
-    for i in prange(n):
-        for k in range(offsets[i], offsets[i + 1]):
-            proposed[k] = 0
-            j = bond_j[k]
-            if intact[k] and _stretch_of(i, j, x, u) >= 0.5 * (s0[i] + s0[j]):
-                proposed[k] = 1
-                count += 1
-    return count
 
 
 @_exact

@@ -2,7 +2,7 @@
 correspondence, several bodies): which intact bonds reach (s0_i + s0_j) / 2.
 
 :func:`break_trial_filtered` gives exactly the proposals of
-:func:`peridynamics.kernels.bond_based.break_trial` (the same scalar test, compiled
+:func:`break_trial` (the same scalar test, compiled
 without fast-math, on the same stretch) but runs it only on the families that can hold
 such a bond: a vectorised pass over each family (the filter of the PMB force kernels,
 r/|xi| above level = 1 + the family's smallest threshold lowered by 1e-12, tested
@@ -19,6 +19,7 @@ from numba import njit, prange
 from peridynamics.kernels.bond_based import _NEVER, _filter, _stretch_of, total_count
 
 _hot = njit(parallel=True, fastmath=True, error_model="numpy", cache=True)
+_exact = njit(parallel=True, fastmath=False, cache=True)
 
 
 @njit(fastmath=False)
@@ -56,6 +57,21 @@ def _over(i, x, u, offsets, bond_j, intact, level2):
         t = (r2 - level2 * l2) * np.float64(intact[q])
         over += t + np.abs(t)
     return over
+
+
+@_exact
+def break_trial(x, u, offsets, bond_j, intact, s0, proposed):
+    """Critical-stretch trial: ``proposed[k] = 1`` for every intact bond whose stretch
+    reaches (s0_i + s0_j) / 2, else 0; ``intact`` is not changed. Returns the number of
+    directed bonds proposed. The stretch is computed as in the force kernels' breaking
+    pass (:func:`peridynamics.kernels.bond_based._break_family`), so both directions of
+    a bond get the same decision. Every family runs the exact test (the interface bonds
+    of several bodies, which keep no family minimum)."""
+    n = offsets.shape[0] - 1
+    count = 0
+    for i in prange(n):
+        count += _propose_family(np.uint64(i), x, u, offsets, bond_j, intact, s0, proposed)
+    return count
 
 
 @_hot
