@@ -13,7 +13,7 @@ The OpenBLAS libraries loaded in the process (NumPy's and SciPy's wheels each bu
 one, with the ``scipy_openblas`` symbol prefix and the ``64_`` suffix of their 64-bit
 integer builds; a system OpenBLAS has neither) are found once in
 ``/proc/self/maps`` (Linux) and driven through ``openblas_set_num_threads`` by
-:mod:`ctypes`; elsewhere, or with another BLAS (MKL, Accelerate), this does nothing.
+``ctypes``; elsewhere, or with another BLAS (MKL, Accelerate), this does nothing.
 """
 
 from __future__ import annotations
