@@ -148,7 +148,7 @@ class CriticalStretchLaw(DamageLaw):
 
     def trial(self, state: State) -> int:
         """Propose the intact bonds whose stretch reaches (s0_i + s0_j)/2: the exact test
-        of :func:`~peridynamics.kernels.bond_based.break_trial` on the families a
+        of :func:`~peridynamics.kernels.bond_trial.break_trial` on the families a
         vectorised filter finds near breaking
         (:func:`~peridynamics.kernels.bond_trial.break_trial_filtered`, the same
         proposals)."""
