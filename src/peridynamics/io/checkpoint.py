@@ -150,7 +150,7 @@ def write_checkpoint(
     fields such as the SED levels included), as ``state_<name>``, with the records, the
     deck fingerprint, ``meta`` (a small JSON mapping, ``{"finished": true}`` on the final
     checkpoint of a run; :func:`read_checkpoint_meta`), the ``extra`` arrays (as
-    ``extra_<name>``; :attr:`Checkpoint.extra`) and the checksum. The file is
+    ``extra_<name>``; ``Checkpoint.extra``) and the checksum. The file is
     written to ``name + ".tmp"``, fsynced and renamed (a crash leaves at most the
     ``.tmp``, which the next run removes).
 

@@ -191,7 +191,7 @@ def read_rank_checkpoint(
 
     A checkpoint of another number of ranks, or of as many ranks on another partition
     (its stored partition differs from this run's on some rank: another version's
-    bisection), is repartitioned (:func:`_read_repartitioned`). Raises ResumeError (on
+    bisection), is repartitioned (``_read_repartitioned``). Raises ResumeError (on
     every rank) when there is no usable marker or the checkpoint cannot be
     repartitioned, and NoUsableCheckpoint (naming each rank's file and its reason) when
     no step it names is intact on every rank."""

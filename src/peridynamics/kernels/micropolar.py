@@ -207,7 +207,7 @@ def tangent_csr_2d(
     The same numbers, in the same order of operations, as the NumPy
     :meth:`peridynamics.families.micropolar.force.MicropolarForceModel.bond_blocks`
     (the 6 x 6 blocks), their family sum by ``np.add.reduceat`` (the first block plus
-    the pairwise sum of the others, :func:`_pairwise`) and
+    the pairwise sum of the others, ``_pairwise``) and
     :func:`peridynamics.families.assembly.block_csr` with sorted indices."""
     n = offsets.shape[0] - 1
     for i in prange(n):

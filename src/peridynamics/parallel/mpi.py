@@ -35,7 +35,7 @@ class MPICommunicator:
     n_owned, n_global : owned points here, points of the whole body.
     exchange_s : wall time spent in :meth:`exchange` (s), for the communication share.
     to_root_bytes : rank 0: bytes of the arrays gathered onto it by :meth:`gather_points_root`
-        and :meth:`gather_root`, by label (the request being served, :attr:`to_root_label`;
+        and :meth:`gather_root`, by label (the request being served, ``to_root_label``;
         the whole gathered array, rank 0's own rows included).
     """
 
@@ -162,7 +162,7 @@ class MPICommunicator:
 
     def gather_root(self, obj: Any) -> list[Any] | None:
         """``obj`` of every rank, in rank order, on rank 0 (pickled); ``None`` elsewhere.
-        The bytes of the numpy arrays received are counted in :attr:`to_root_bytes`."""
+        The bytes of the numpy arrays received are counted in ``to_root_bytes``."""
         parts = self.comm.gather(obj, root=0)
         if parts is None:
             return None

@@ -4,7 +4,7 @@ the points it owns, rank 0 the ``.pvtu`` file that joins them.
 Rank 0 runs the frames observer (:class:`~peridynamics.io.observers.frames.VTKFrames`)
 like every observer; for a frame it makes one request through the run's session
 (:meth:`peridynamics.parallel.session.Session.call`) that every rank serves with
-:func:`_write_piece`: the rank computes the frame's point fields
+``_write_piece``: the rank computes the frame's point fields
 (:func:`frame_fields`) from its own state, with the
 point damage of its own bonds, keeps the rows of its owned points (in global id order,
 as the gather put them) and writes them as piece ``r`` of the frame
