@@ -116,19 +116,19 @@ def test_static_fracture_load_displacement_curve(example_run) -> None:
 def test_crack_branching_small(example_run) -> None:
     s = _run(example_run, "crack_branching_2d", *BRANCHING)
     r = s["results"]
-    # Measured (16 000 points, 417 steps); every number below is the same in the last
-    # digit with default threads (2), NUMBA_NUM_THREADS=1 and NUMBA_CPU_NAME=generic
-    # (another vectorisation of the fast-math force sums): damage, tip positions and
-    # speeds are discrete (broken-bond counts, grid positions over recorded times).
-    assert r["max_damage"] == 1.0
-    assert r["bonds_broken"] == pytest.approx(18412, rel=0.01)
+    # Measured with 0.3.0's Lanczos step (16 000 points, 272 steps; 0.2.0: 417 steps,
+    # max damage 1.0, 18 412 bonds, peak tip speed 1509.67 m/s); damage, tip positions
+    # and speeds are discrete (broken-bond counts, grid positions over recorded times).
+    assert r["max_damage"] == pytest.approx(0.9802, abs=0.03)
+    assert r["bonds_broken"] == pytest.approx(18546, rel=0.01)
     # the tip (damage >= 0.35 along the ligament from x = 50 mm) ends 47.25 mm ahead
     assert r["crack_tip_position_m"][-1] == pytest.approx(0.04725, abs=1e-3)  # 2 dx
     assert r["crack_branched"] is True and r["crack_branches"] == 2
     assert r["branching_x_m"] == pytest.approx(0.07, abs=2e-3)
-    # peak tip speed 1509.67 m/s. Tolerances leave room for a bond decision that flips
-    # on other hardware (1 % of the broken bonds, 2 dx, 5 % of the speed)
-    assert r["max_crack_tip_speed_m_per_s"] == pytest.approx(1509.6650134417625, rel=0.05)
+    # peak tip speed 1375.87 m/s (records 10 steps apart: 1.5x farther than with 0.2.0's
+    # step, so the +-3-record difference smooths more). Tolerances leave room for a bond
+    # decision that flips on other hardware (1 % of the broken bonds, 2 dx, 5 % of speed)
+    assert r["max_crack_tip_speed_m_per_s"] == pytest.approx(1375.8662044326838, rel=0.05)
     assert r["max_crack_tip_speed_m_per_s"] < _C_R_MODEL
 
 

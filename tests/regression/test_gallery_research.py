@@ -27,15 +27,17 @@ def test_make_figures_small(tmp_path: Path, example_run: Callable[..., Path]) ->
     assert mod.main(["--out", str(out), "--no-run", *sets]) == 0
     res = json.loads((out / "notched_plate.json").read_text())
     assert (out / "notched_plate.png").stat().st_size > 1000
-    # measured at this grid: peak 2209 N (1 mm thick) at 18.8 us with CMOD 14.3 um;
-    # 5 % for a bond decision that flips elsewhere
-    assert res["peak_load_N"] == pytest.approx(2209.0, rel=0.05)
-    assert res["cmod_at_peak_m"] == pytest.approx(1.43e-5, rel=0.05)
+    # measured at this grid with 0.3.0's Lanczos step (136 steps of 221 ns): peak 2141 N
+    # (1 mm thick) with CMOD 12.9 um (0.2.0's shorter step: 2209 N, 14.3 um); 5 % for a
+    # bond decision that flips elsewhere
+    assert res["peak_load_N"] == pytest.approx(2140.7, rel=0.05)
+    assert res["cmod_at_peak_m"] == pytest.approx(1.294e-5, rel=0.05)
     assert res["first_damage"]["load_N"] < res["fracture"]["load_N"] < res["peak_load_N"]
-    # energy balance: grip work 0.02889 J less kinetic 0.00343 and strain 0.00768 J
-    # leaves 0.01778 J, 0.921 x G0 t times the length of all broken bonds (0.895 at the
-    # shipped grid; the trapezoid rule over the 10-step records is within 0.1 % of
-    # every-step records there)
+    # energy balance: grip work 0.02597 J less kinetic 0.00402 and strain 0.00819 J
+    # leaves 0.01376 J, 0.758 x G0 t times the length of all broken bonds (0.884 at the
+    # shipped grid). The grip work is the trapezoid rule over the history records, every
+    # 10 steps: 2.2 us apart at this grid (1.5 us with 0.2.0's step, which measured
+    # 0.921), too coarse for the load drop at fracture, so the bound is loose here
     e = res["energy"]
     assert e["dissipated_J"] > 0
-    assert 0.85 < e["dissipated_over_g0_t_crack_length_all_bonds_m"] < 1.0
+    assert 0.7 < e["dissipated_over_g0_t_crack_length_all_bonds_m"] < 1.0
