@@ -58,13 +58,6 @@ class PairBreaker:
         """False when no bond can ever break."""
         return len(self.candidates) > 0
 
-    def ratios(
-        self, stretch: NDArray[np.float64], intact: NDArray[np.uint8]
-    ) -> NDArray[np.float64]:
-        """l / l_c of every candidate pair, 0 for broken ones, shape (n_candidates,);
-        ``stretch`` of every directed bond (n_bonds,)."""
-        return self.pair_ratios(stretch[self.candidates], intact)
-
     def pair_ratios(
         self, stretch: NDArray[np.float64], intact: NDArray[np.uint8]
     ) -> NDArray[np.float64]:
@@ -74,13 +67,10 @@ class PairBreaker:
         c = self.candidates
         return stretch * self.inv_threshold * (intact[c] != 0)
 
-    def select(self, stretch: NDArray[np.float64], intact: NDArray[np.uint8]) -> NDArray[np.int64]:
-        """Directed bonds (one per pair) to break now by the scheme, (m,); empty when
-        no intact bond reaches its critical stretch."""
-        return self.pick(self.ratios(stretch, intact))
-
     def pick(self, r: NDArray[np.float64]) -> NDArray[np.int64]:
-        """:meth:`select` from the candidates' ratios ``r`` (:meth:`pair_ratios`)."""
+        """Directed bonds (one per pair) to break now by the scheme, (m,), from the
+        candidates' ratios ``r`` (:meth:`pair_ratios`); empty when no intact bond
+        reaches its critical stretch."""
         violating = np.flatnonzero(r >= 1.0)
         if len(violating) == 0:
             return violating
@@ -95,15 +85,11 @@ class PairBreaker:
                 pick = violating
         return self.candidates[np.sort(pick)]
 
-    def critical_factor(self, stretch: NDArray[np.float64], intact: NDArray[np.uint8]) -> float:
-        """Factor by which a displacement field proportional to ``stretch`` can be scaled
-        before the first intact candidate reaches its critical stretch (inf when no
-        candidate is in tension)."""
-        return self.factor(self.ratios(stretch, intact))
-
     @staticmethod
     def factor(r: NDArray[np.float64]) -> float:
-        """:meth:`critical_factor` from the candidates' ratios ``r``."""
+        """Factor by which a displacement field proportional to the stretch behind the
+        candidates' ratios ``r`` can be scaled before the first intact candidate reaches
+        its critical stretch (inf when no candidate is in tension)."""
         peak = float(r.max(initial=0.0))
         return 1.0 / peak if peak > 0 else np.inf
 

@@ -22,7 +22,7 @@ it when asked (:func:`write_frame` with ``held``).
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -53,7 +53,13 @@ def frame_fields(output: Output, s: State, damage: NDArray) -> dict[str, NDArray
     return data
 
 
-__all__ = ["frame_fields", "hold_frame", "write_frame"]
+__all__ = ["frame_fields", "hold_frame", "vtu_compression", "write_frame"]
+
+
+def vtu_compression(output: Output) -> Literal["zlib"] | None:
+    """The compression of a frame file (``output.frame_compression``; None for
+    ``"none"``), serial frames and pieces alike."""
+    return None if output.frame_compression == "none" else output.frame_compression
 
 
 def write_frame(session: Any, path: Path, output: Output, held: str | None = None) -> str:
@@ -113,14 +119,14 @@ def _write_piece(session: Any, path: str, output: Output, held: str | None) -> s
     ``.pvtu`` file once every piece is written (its name; ``None`` on the others)."""
     target = Path(path)
     comm = session.comm
-    compression = None if output.frame_compression == "none" else output.frame_compression
     error = None
     data: dict[str, NDArray] = {}
     try:
         data = session.cache[f"frame:{held}"] if held else _piece_fields(session, output)
         x = session.model.cloud.x[: comm.n_owned]
         write_vtu(target.parent / piece_name(target.name, comm.rank), x, data,
-                  precision=output.frame_precision, compression=compression)  # fmt: skip
+                  precision=output.frame_precision,
+                  compression=vtu_compression(output))  # fmt: skip
     except Exception as exc:  # told to rank 0, which raises: no rank waits forever
         error = f"rank {comm.rank}: {type(exc).__name__}: {exc}"
     errors = comm.gather_root(error)

@@ -31,7 +31,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.io.observers.base import Observer, RunContext, RunOptions
-from peridynamics.io.observers.frame_pieces import frame_fields
+from peridynamics.io.observers.frame_pieces import (
+    frame_fields,
+    hold_frame,
+    vtu_compression,
+    write_frame,
+)
 from peridynamics.io.options import Output, load_source
 from peridynamics.io.vtk import write_pvd, write_vtu
 from peridynamics.solvers.base import StepResult
@@ -74,8 +79,6 @@ class VTKFrames(Observer):
         file name."""
         path = ctx.out / (name or f"frame_{s.step:07d}.vtu")
         if ctx.session is not None:  # a decomposed run: every rank writes its own piece
-            from peridynamics.io.observers.frame_pieces import write_frame
-
             fname = write_frame(ctx.session, path, self.run.output)
         else:
             fname = self._write(path, frame_fields(self.run.output, s, ctx.damage(s)))
@@ -91,9 +94,8 @@ class VTKFrames(Observer):
     def _write(self, path: Path, data: dict[str, NDArray]) -> str:
         """Write a frame of a serial run (the whole body's ``data``); its file name."""
         o = self.run.output
-        compression = None if o.frame_compression == "none" else o.frame_compression
         write_vtu(path, self.model.cloud.x, data, precision=o.frame_precision,
-                  compression=compression)  # fmt: skip
+                  compression=vtu_compression(o))  # fmt: skip
         return path.name
 
     def _png(self, ctx: RunContext, s: State, fname: str) -> None:
@@ -161,8 +163,6 @@ class VTKFrames(Observer):
             return
         snap = {}
         if "peak_load" in self.events and ctx.session is not None:  # every rank its piece
-            from peridynamics.io.observers.frame_pieces import hold_frame
-
             hold_frame(ctx.session, "peak_load", self.run.output)
         elif "peak_load" in self.events:
             data = frame_fields(self.run.output, s, ctx.damage(s))
@@ -181,8 +181,6 @@ class VTKFrames(Observer):
             return
         path = ctx.out / "event_peak_load.vtu"
         if ctx.session is not None:  # every rank writes the piece it kept
-            from peridynamics.io.observers.frame_pieces import write_frame
-
             name = write_frame(ctx.session, path, self.run.output, held="peak_load")
         else:
             name = self._write(path, self._peak[3])
