@@ -39,6 +39,7 @@ from numpy.typing import NDArray
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import bond_based
+from peridynamics.kernels import stress as stress_kernels
 
 if TYPE_CHECKING:
     from peridynamics.state import State
@@ -223,6 +224,27 @@ class ForceModel(ABC):
         """Local damage phi (n,) of a model whose bonds are not all in ``bonds``
         (interfaces between bodies); None (the default): the evaluator's, from ``bonds``."""
         return None
+
+    def pair_force_coefficients(self, state: State) -> NDArray[np.float64] | None:
+        """Pair-force coefficient g_k of every directed bond (n_bonds,) (N/m^4): the
+        model's force density on point i from bond k is ``g_k (xi_k + eta_k)``, so that
+        ``f_i = sum_k g_k y_k``; zero for a broken bond. None (the default): the model's
+        pair forces are not central (correspondence, micropolar)."""
+        return None
+
+    def point_stress(self, state: State) -> NDArray[np.float64] | None:
+        """Stress of every point that owns a family (n, d, d) (Pa): by default the
+        peridynamic (virial) stress ``1/2 sum_k g_k y_k (x) xi_k`` of
+        :meth:`pair_force_coefficients` (Lehoucq & Silling (2008), for a homogeneous
+        deformation; :mod:`peridynamics.kernels.stress`); None when the model has
+        neither pair forces nor a stress of its own."""
+        g = self.pair_force_coefficients(state)
+        if g is None:
+            return None
+        b = self.bonds
+        out = np.empty((len(b.offsets) - 1, self.dim, self.dim))
+        stress_kernels.virial_stress(self.cloud.x, state.u, b.offsets, b.bond_j, g, out)
+        return out
 
 
 class LargestStretchPass:

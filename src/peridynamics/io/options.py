@@ -205,6 +205,15 @@ class Period(Strict):
     of: Literal["value", "magnitude", "rate"] = "value"
 
 
+#: a point field of the frames: stored in the State, or computed from the model and the
+#: state when a frame is written (stress to principal_direction:
+#: :mod:`peridynamics.io.observers.point_fields`)
+FrameField = Literal[
+    "displacement", "velocity", "damage", "force_density", "rotation", "moment",
+    "stress", "strain", "von_mises", "pressure", "principal_stress", "principal_direction",
+]  # fmt: skip
+
+
 class Output(Strict):
     """What to write: VTU frames every ``vtk_every`` steps, at the times ``frames_at``
     and at the events ``frames_on`` (first_damage: the first bond broken in the run;
@@ -225,9 +234,9 @@ class Output(Strict):
     load_probe: str | None = None  # the load of the peak_load event
     history_csv: bool = True  # history.csv beside summary.json
     history_every: Annotated[int, Field(gt=0), Num] | None = None
-    fields: list[
-        Literal["displacement", "velocity", "damage", "force_density", "rotation", "moment"]
-    ] = ["displacement", "velocity", "damage", "force_density", "rotation", "moment"]
+    fields: list[FrameField] = [
+        "displacement", "velocity", "damage", "force_density", "rotation", "moment"
+    ]  # fmt: skip
     probes: list[Probe] = []
     crack_tip: CrackTip | None = None
     crack_paths: list[CrackPathSpec] = []

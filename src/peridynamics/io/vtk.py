@@ -15,7 +15,7 @@ from peridynamics.io.atomic import atomic_path
 
 def _pad3(a: NDArray, dtype: type = np.float64) -> NDArray:
     a = np.asarray(a, dtype=dtype)
-    if a.ndim == 1:
+    if a.ndim == 1 or a.shape[1] > 3:  # scalars, and tensors (9 components) as they are
         return a
     out: NDArray = np.zeros((a.shape[0], 3), dtype=dtype)
     out[:, : a.shape[1]] = a
@@ -29,7 +29,8 @@ def write_vtu(
     precision: Literal["float32", "float64"] = "float64",
     compression: Literal["zlib", "lzma"] | None = None,
 ) -> None:
-    """Write points ``x`` (n, dim) with point fields (vectors padded to 3 components)
+    """Write points ``x`` (n, dim) with point fields (vectors padded to 3 components,
+    tensors of 9 row-major components as they are)
     as a binary VTU, the points and fields in ``precision``, the data blocks
     compressed with ``compression`` (ParaView reads zlib and lzma). The file appears
     atomically (written to a temporary name, then renamed)."""

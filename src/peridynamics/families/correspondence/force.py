@@ -294,6 +294,11 @@ class CorrespondenceForceModel(LargestStretchPass, ForceModel):
         sigma = np.einsum("nab,ncb->nac", piola, f) / jac[:, None, None]
         return np.asarray(sigma * active[:n, None, None])
 
+    def point_stress(self, state: State) -> NDArray[np.float64]:
+        """The Cauchy stress of the constitutive law at the nonlocal F of every point
+        (n, d, d) (Pa): :meth:`cauchy_stress` at ``state.u`` and ``state.intact``."""
+        return np.asarray(self.cauchy_stress(state.u, state.intact))
+
     def max_principal_stress(
         self, u: NDArray[np.float64], intact: NDArray[np.uint8]
     ) -> NDArray[np.float64]:

@@ -216,6 +216,30 @@ class LPSForceModel(LargestStretchPass, ForceModel):
         )  # fmt: skip
         return out
 
+    def pair_force_coefficients(self, state: State) -> NDArray[np.float64]:
+        """g_k = mu_k ((wv_k cd_i theta_i + wvf_k cd_j theta_j) L_k + (wv_k a_i +
+        wvf_k a_j) e_k) / r_k (n_bonds,) (N/m^4): the net pair force of the force pass,
+        both ends' force states (:mod:`peridynamics.kernels.lps`), with the dilatation
+        recomputed from ``state.u`` (the State is not changed)."""
+        b = self.bonds
+        theta = np.zeros(state.u.shape[0])
+        self._dilatation(
+            self.cloud.x, state.u, b.offsets, b.bond_j, b.bond_length, self.omega_volume,
+            state.intact, self.theta_scale, theta,
+        )  # fmt: skip
+        bi, bj, length = b.bond_i, b.bond_j, b.bond_length
+        xi = b.bond_xi
+        eta = state.u[bj] - state.u[bi]
+        y = xi + eta
+        r = np.sqrt(np.einsum("ij,ij->i", y, y))
+        e = np.einsum("ij,ij->i", eta, 2.0 * xi + eta) / (r + length)
+        cd, a = self.dilatation_coef, self.extension_coef
+        wv, wvf = self.omega_volume, self.omega_volume_far
+        t = (wv * cd[bi] * theta[bi] + wvf * cd[bj] * theta[bj]) * length + (
+            wv * a[bi] + wvf * a[bj]
+        ) * e
+        return np.asarray(state.intact * t / r)
+
     # -- stiffness bound ------------------------------------------------------------------
     def stiffness_bound(self) -> NDArray[np.float64]:
         """Per-point bound K_i (N/m^4 = Pa/m^2), shape (n,), such that

@@ -225,6 +225,16 @@ class PMBForceModel(LargestStretchPass, ForceModel):
         """Bonds broken per owned point by the last fused pass (n_owned,)."""
         return self._broken_scratch
 
+    def pair_force_coefficients(self, state: State) -> NDArray[np.float64]:
+        """g_k = stiffness_k mu_k (1/L_k - 1/r_k) (n_bonds,) (N/m^4): the force density
+        of bond k on its point is ``g_k y_k`` (the kernel's pair force; the stress of
+        :meth:`point_stress`)."""
+        b = self.bonds
+        y = b.bond_xi + (state.u[b.bond_j] - state.u[b.bond_i])
+        r = np.sqrt(np.einsum("ij,ij->i", y, y))
+        stiff = np.asarray(self.stiffness, dtype=np.float64)
+        return np.asarray(stiff * state.intact * (self.inv_length - 1.0 / r))
+
     # -- energy, bounds, tangent --------------------------------------------------------
     def energy_density(self, state: State) -> NDArray[np.float64]:
         """W_i = 1/4 sum_k stiffness_k mu_k s_k^2 |xi_k| (J/m^3), shape (n,)."""

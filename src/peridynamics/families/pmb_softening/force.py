@@ -28,6 +28,7 @@ from peridynamics.families.pmb_softening.envelope import SofteningEnvelope, soft
 from peridynamics.families.tangent import finite_difference_tangent
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import bond_softening as ks
+from peridynamics.kernels.reference_softening import factor as softening_factor
 
 if TYPE_CHECKING:
     from peridynamics.state import State
@@ -102,6 +103,20 @@ class PMBSofteningForceModel(PMBForceModel):
                 state.force, state.max_stretch, commit, self._broken_scratch,
             )
         )  # fmt: skip
+
+    def pair_force_coefficients(self, state: State) -> NDArray[np.float64]:
+        """g_k = stiffness_k h_k s_k / r_k (n_bonds,) (N/m^4) with the secant factor h of
+        the envelope at the trial history max(kappa, s) (the force pass's pair force,
+        through the NumPy form of ``reference_softening.factor``)."""
+        b = self.bonds
+        y = b.bond_xi + (state.u[b.bond_j] - state.u[b.bond_i])
+        r = np.sqrt(np.einsum("ij,ij->i", y, y))
+        s = r * self.inv_length - 1.0
+        bi, bj = b.bond_i, b.bond_j
+        s0b = 0.5 * (self.point_s0[bi] + self.point_s0[bj])
+        sfb = 0.5 * (self.point_sf[bi] + self.point_sf[bj])
+        h = softening_factor(s, state[KAPPA], state.intact, s0b, sfb, *self.knee)
+        return np.asarray(self.stiffness * h * s / r)
 
     def update_max_stretch(self, state: State, above: float = 0.0) -> None:
         """Nothing: the softening force pass fills ``state.max_stretch`` itself."""

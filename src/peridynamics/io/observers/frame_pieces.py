@@ -27,14 +27,18 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
+from peridynamics.io.observers.point_fields import point_fields
 from peridynamics.io.options import Output
 from peridynamics.io.pvtu import piece_name, pvtu_fields, write_pvtu
 from peridynamics.io.vtk import write_vtu
 from peridynamics.state import State
 
 
-def frame_fields(output: Output, s: State, damage: NDArray) -> dict[str, NDArray]:
-    """The point fields of a frame, as chosen by ``output.fields``."""
+def frame_fields(
+    output: Output, s: State, damage: NDArray, model: Any = None
+) -> dict[str, NDArray]:
+    """The point fields of a frame, as chosen by ``output.fields``; those computed from
+    the ``model`` (stress, strain, ...: :data:`POINT_FIELDS`) when it is given."""
     fields = output.fields
     data: dict[str, NDArray] = {}
     if "displacement" in fields:
@@ -50,6 +54,8 @@ def frame_fields(output: Output, s: State, damage: NDArray) -> dict[str, NDArray
             data["rotation"] = s["theta"][:, 0]
         if "moment" in fields:
             data["moment_density"] = s["moment"][:, 0]
+    if model is not None:
+        data.update(point_fields(list(fields), model, s))
     return data
 
 
@@ -104,7 +110,7 @@ def hold_frame(session: Any, key: str, output: Output) -> None:
 def _piece_fields(session: Any, output: Output) -> dict[str, NDArray]:
     """The frame's point fields of this rank's owned points (n_owned, ...)."""
     n = session.comm.n_owned
-    data = frame_fields(output, session.state, session.local_damage())
+    data = frame_fields(output, session.state, session.local_damage(), session.model)
     return {k: v[:n] for k, v in data.items()}
 
 

@@ -81,7 +81,7 @@ class VTKFrames(Observer):
         if ctx.session is not None:  # a decomposed run: every rank writes its own piece
             fname = write_frame(ctx.session, path, self.run.output)
         else:
-            fname = self._write(path, frame_fields(self.run.output, s, ctx.damage(s)))
+            fname = self._write(path, frame_fields(self.run.output, s, ctx.damage(s), self.model))
         if name is None:
             frames = [f for f in ctx.records["vtk_frames"] if f[1] != fname]
             frames.append((s.t, fname))
@@ -165,7 +165,7 @@ class VTKFrames(Observer):
         if "peak_load" in self.events and ctx.session is not None:  # every rank its piece
             hold_frame(ctx.session, "peak_load", self.run.output)
         elif "peak_load" in self.events:
-            data = frame_fields(self.run.output, s, ctx.damage(s))
+            data = frame_fields(self.run.output, s, ctx.damage(s), self.model)
             snap = {k: np.array(v, dtype=np.float32 if self._f32 else np.float64)
                     for k, v in data.items()}  # fmt: skip
         self._peak = (load, s.step, s.t, snap)
