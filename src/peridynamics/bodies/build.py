@@ -64,7 +64,8 @@ def assemble_points(
     Parameters
     ----------
     main : PointCloud
-        The deck's geometry (no node sets needed).
+        The deck's geometry; its node sets (those a geometry brings: an image's phases,
+        a mesh's groups) are carried over to the new order.
     bodies : sequence of BodySpec
         ``region`` bodies claim points of ``main`` (a later body wins where regions
         overlap); ``geometry`` bodies bring their own points.
@@ -86,10 +87,12 @@ def assemble_points(
                 )
             extra.append((k, cloud))
     xs, vols, starts, names = [], [], [0], ["main"]
+    new_index = np.full(main.n_points, -1, dtype=np.intp)  # main's point -> its new index
     for k in range(len(bodies) + 1):
         if k == 0 or bodies[k - 1].region is not None:
             idx = np.flatnonzero(owner == k)
             x, vol = main.x[idx], main.volume[idx]
+            new_index[idx] = starts[-1] + np.arange(len(idx))
         else:
             cloud = next(c for kk, c in extra if kk == k)
             x, vol = cloud.x, cloud.volume
@@ -111,6 +114,7 @@ def assemble_points(
         main.cross_section,
         main.plane,
         irregular=main.irregular or any(c.irregular for _, c in extra),
+        node_sets={name: np.sort(new_index[idx]) for name, idx in main.node_sets.items()},
     )
     return cloud, BodyLayout(tuple(names), tuple(starts))
 

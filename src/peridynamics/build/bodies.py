@@ -47,12 +47,13 @@ def build_body_points(deck: dk.Deck, main: PointCloud) -> tuple[PointCloud, Body
         return geometry_cloud(g, deck.discretisation)
 
     def select(cloud: PointCloud, region: dk.RegionSpec) -> NDArray[np.intp]:
-        return cloud.select(to_region(region, {}, cloud.spacing))
+        # a region may name the node sets the geometry brings (an image's phases)
+        return cloud.select(to_region(region, cloud.node_sets, cloud.spacing))
 
     try:
         return assemble_points(main, deck.bodies, geometry, select)
-    except ValueError as exc:
-        raise SetupError("bodies", str(exc)) from None
+    except (ValueError, KeyError) as exc:
+        raise SetupError("bodies", str(exc).strip("'\"")) from None
 
 
 def body_layout(deck: dk.Deck, cloud: PointCloud) -> BodyLayout:

@@ -16,6 +16,25 @@ from peridynamics.deck import (
     RectangleGeometry,
     Solver,
 )
+from peridynamics.deck.geometry import ImageGeometry, SurfaceGeometry
+from peridynamics.geometry.image_phases import grid_cells, image_shape
+from peridynamics.geometry.surface_fill import estimate_fill_points
+
+
+def file_points(g: object, spacing: float) -> float | None:
+    """Points of a geometry read from a file, estimated before any is allocated: a
+    surface fill's enclosed volume / dx^3 (the surface is read), an image's grid cells
+    (its header is read); ``None`` for a mesh or a Gmsh model (known once built) or a
+    file that cannot be read (the build says why)."""
+    try:
+        if isinstance(g, SurfaceGeometry):
+            return estimate_fill_points(g.file, spacing, g.scale)
+        if isinstance(g, ImageGeometry):
+            nx, ny = grid_cells(image_shape(g.file), g.pixel_size, spacing)
+            return float(nx) * float(ny)
+    except ValueError:
+        return None
+    return None
 
 
 @dataclass(frozen=True)
@@ -43,8 +62,9 @@ class SizeEstimate:
 
 
 def estimate_size(deck: Deck, n_points: float | None = None) -> SizeEstimate | None:
-    """Estimate points, bonds and memory from the deck alone (``None`` for a mesh
-    geometry unless ``n_points`` is given: its points are only known once it is read)."""
+    """Estimate points, bonds and memory from the deck alone (``None`` for a mesh or
+    Gmsh geometry unless ``n_points`` is given: its points are only known once it is
+    read; a surface or an image is estimated from its file, :func:`file_points`)."""
     g, d = deck.geometry, deck.discretisation
     dx, dim = d.spacing, deck.dim
 
@@ -63,7 +83,9 @@ def estimate_size(deck: Deck, n_points: float | None = None) -> SizeEstimate | N
         elif isinstance(g, DiscGeometry):
             n_points = math.pi * cells(g.radius) ** 2
         else:
-            return None
+            n_points = file_points(g, dx)
+            if n_points is None:
+                return None
     reach = d.delta + (0.5 * dx if d.partial_volume == "extended" else 0.0)
     r = reach / dx
     family = {1: 2.0 * r, 2: math.pi * r * r, 3: 4.0 / 3.0 * math.pi * r**3}[dim]

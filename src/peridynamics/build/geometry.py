@@ -13,7 +13,11 @@ from typing import Any
 from peridynamics import deck as dk
 from peridynamics.build.errors import SetupError
 from peridynamics.build.regions import to_region
-from peridynamics.geometry import PointCloud, bar, box, cylinder, disc, from_mesh, rectangle
+from peridynamics.geometry import PointCloud, bar, box, cylinder, disc, rectangle
+from peridynamics.geometry.gmsh_model import from_gmsh
+from peridynamics.geometry.image_phases import Phase, from_image
+from peridynamics.geometry.mesh_groups import from_mesh_groups
+from peridynamics.geometry.surface_fill import fill_surface
 
 
 def _bar(g: Any, d: dk.Discretisation) -> PointCloud:
@@ -71,7 +75,23 @@ def _cylinder(g: Any, d: dk.Discretisation) -> PointCloud:
 
 
 def _mesh(g: Any, d: dk.Discretisation) -> PointCloud:
-    return from_mesh(g.file, dim=g.dim, thickness=g.thickness, plane=g.plane, spacing=d.spacing)
+    return from_mesh_groups(g.file, dim=g.dim, thickness=g.thickness, plane=g.plane,
+                            spacing=d.spacing, groups=g.groups)  # fmt: skip
+
+
+def _surface(g: Any, d: dk.Discretisation) -> PointCloud:
+    return fill_surface(g.file, d.spacing, scale=g.scale)
+
+
+def _gmsh(g: Any, d: dk.Discretisation) -> PointCloud:
+    return from_gmsh(g.file, d.spacing, dim=g.dim, mesh_size=g.mesh_size, scale=g.scale,
+                     thickness=g.thickness, plane=g.plane, groups=g.groups)  # fmt: skip
+
+
+def _image(g: Any, d: dk.Discretisation) -> PointCloud:
+    phases = [Phase(p.name, p.grey[0], p.grey[1], p.remove) for p in g.phases]
+    return from_image(g.file, g.pixel_size, d.spacing, phases, origin=g.origin,
+                      thickness=g.thickness, plane=g.plane)  # fmt: skip
 
 
 #: geometry ``type`` -> builder(section, discretisation) -> PointCloud
@@ -82,9 +102,12 @@ GEOMETRIES: dict[str, Callable[[Any, dk.Discretisation], PointCloud]] = {
     "box": _box,
     "cylinder": _cylinder,
     "mesh": _mesh,
+    "surface": _surface,
+    "gmsh": _gmsh,
+    "image": _image,
 }
 #: geometry kinds whose points cannot be jittered (a mesh's points are its centroids)
-NO_JITTER = ("bar", "mesh")
+NO_JITTER = ("bar", "mesh", "surface", "gmsh", "image")
 
 
 def geometry_cloud(g: Any, d: dk.Discretisation) -> PointCloud:
@@ -94,7 +117,8 @@ def geometry_cloud(g: Any, d: dk.Discretisation) -> PointCloud:
         if d.jitter > 0 and g.type in NO_JITTER:
             raise ValueError(
                 f"discretisation.jitter = {d.jitter} needs a rectangle, disc, box or cylinder "
-                f"geometry, not a {g.type} (a mesh's points are its cell centroids); set "
+                f"geometry, not a {g.type} (a mesh's points are its cell centroids, a "
+                "surface or image is filled with the regular grid); set "
                 "discretisation.jitter: 0"
             )
         cloud = GEOMETRIES[g.type](g, d)

@@ -214,9 +214,10 @@ class RigidBodySpec(Strict):
         return self
 
 
-def bodies_errors(deck: Any) -> Errors:
+def bodies_errors(deck: Any, geometry_sets: set[str] | None = None) -> Errors:
     """Cross-section checks of ``bodies``, ``interfaces`` and ``rigid_bodies``: vector
-    lengths, unique names, known bodies."""
+    lengths, unique names, known bodies; a body's ``region`` may name the node sets of
+    ``geometry_sets`` (an image's phases, a mesh's groups: a body per phase)."""
     errors: Errors = []
     dim = deck.dim
     names = ["main"]
@@ -228,7 +229,7 @@ def bodies_errors(deck: Any) -> Errors:
             )
         names.append(b.name)
         if b.region is not None:
-            check_region(errors, f"{path}.region", b.region, dim, set())
+            check_region(errors, f"{path}.region", b.region, dim, set(geometry_sets or ()))
         if b.geometry is not None and geometry_dim(b.geometry) != dim:
             errors.append(
                 (f"{path}.geometry", f"a {geometry_dim(b.geometry)}-D body in a {dim}-D deck")

@@ -11,7 +11,7 @@ from peridynamics.deck.bodies import bodies_errors
 from peridynamics.deck.cracks import notch_errors, precrack_errors
 from peridynamics.deck.damage import no_fail_errors
 from peridynamics.deck.derived import derived_errors
-from peridynamics.deck.geometry import hole_errors
+from peridynamics.deck.geometry import geometry_set_names, hole_errors
 from peridynamics.deck.loading import condition_errors
 from peridynamics.deck.output import crack_tracking_errors, output_errors, probe_errors
 from peridynamics.deck.regions import node_set_errors, node_set_names
@@ -23,7 +23,7 @@ from peridynamics.deck.types import Errors
 def cross_check(deck: Deck) -> Errors:
     """Checks that need several sections: dimensions, node-set names, the model family
     against the damage law and the solver, outputs, bodies, derived quantities."""
-    sets = node_set_names(deck)
+    sets = node_set_names(deck) | geometry_set_names(deck.geometry)
     errors: Errors = []
     errors += node_set_errors(deck, sets)
     errors += hole_errors(deck)
@@ -36,5 +36,5 @@ def cross_check(deck: Deck) -> Errors:
     errors += probe_errors(deck, sets)
     errors += crack_tracking_errors(deck, sets)
     errors += notch_errors(deck)
-    errors += bodies_errors(deck)
+    errors += bodies_errors(deck, geometry_set_names(deck.geometry))
     return errors + derived_errors(deck)

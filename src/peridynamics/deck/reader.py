@@ -16,6 +16,7 @@ from pydantic import ValidationError
 from peridynamics.deck.checks import cross_check
 from peridynamics.deck.errors import DeckError, validation_errors
 from peridynamics.deck.geometry import MeshGeometry
+from peridynamics.deck.geometry_files import resolve_geometry_files
 from peridynamics.deck.loading import InitialVelocityBC
 from peridynamics.deck.schema import Deck
 from peridynamics.deck.yaml_source import (
@@ -114,6 +115,7 @@ def parse_deck(data: Any, base_dir: Path | None = None) -> Deck:
         base_dir is not None or deck.geometry.dim is None
     ):  # without base_dir and with dim given, the file is not looked up
         deck = _resolve_mesh(deck, base_dir or Path.cwd())
+    deck = resolve_geometry_files(deck, base_dir)
     deck = _resolve_field_files(deck, base_dir or Path.cwd())
     errors = cross_check(deck)
     if errors:
