@@ -11,6 +11,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from peridynamics.kernels.stress import DEGENERATE
+
 F = NDArray[np.float64]
 
 
@@ -30,7 +32,8 @@ def virial_stress(x: F, u: F, bond_i: NDArray, bond_j: NDArray, g: F, n_points: 
 def deformation_gradient(
     x: F, u: F, bond_i: NDArray, bond_j: NDArray, w: F, intact: NDArray, n_points: int
 ) -> F:
-    """``F_i = N_i K_i^-1`` (n_points, d, d), the identity where ``det K_i <= 0``."""
+    """``F_i = N_i K_i^-1`` (n_points, d, d), the identity where K_i is singular
+    (``det K_i <= DEGENERATE (tr K_i / d)^d``)."""
     xi = x[bond_j] - x[bond_i]
     y = xi + (u[bond_j] - u[bond_i])
     q = (np.asarray(intact) != 0) * w
@@ -45,7 +48,7 @@ def deformation_gradient(
     kmat = kk.reshape(n_points, d, d)
     nmat = nn.reshape(n_points, d, d)
     det = np.linalg.det(kmat)
-    ok = det > 0.0
+    ok = det > DEGENERATE * (np.trace(kmat, axis1=1, axis2=2) / d) ** d
     out = np.broadcast_to(np.eye(d), (n_points, d, d)).copy()
     out[ok] = np.einsum("nab,nbc->nac", nmat[ok], np.linalg.inv(kmat[ok]))
     return out

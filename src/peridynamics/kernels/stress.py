@@ -19,7 +19,7 @@ Notation (per directed bond k = (i, j)): ``xi_k = x_j - x_i``, ``y_k = xi_k + u_
 * Nonlocal deformation gradient (the shape tensor and F of the correspondence model of
   Silling et al. (2007), with unit influence and the partial volumes as weights):
   ``K_i = sum_k mu_k w_k xi_k (x) xi_k``, ``N_i = sum_k mu_k w_k y_k (x) xi_k``,
-  ``F_i = N_i K_i^-1``; the identity where K_i is singular (a family with fewer than
+  ``F_i = N_i K_i^-1``; the identity where K_i is singular (``DEGENERATE``) (a family with fewer than
   ``dim`` independent intact bonds).
 """
 
@@ -61,19 +61,28 @@ def virial_stress(x, u, offsets, bond_j, g, out):
                     out[i, a, b] += 0.5 * gk * ya * (x[j, b] - x[i, b])
 
 
+#: a shape tensor K with det K <= DEGENERATE (tr K / d)^d is taken as singular: its
+#: family has fewer than ``dim`` independent intact bonds, up to round-off
+DEGENERATE = 1e-8
+
+
 @njit
 def _solve_right(nmat, kmat, d, fout, i):
     """fout[i] = nmat K^-1 for a symmetric positive (d, d) K (d <= 3); the identity
-    when K is singular. Returns det K."""
+    when K is singular (:data:`DEGENERATE`). Returns det K."""
+    tr = 0.0
+    for a in range(d):
+        tr += kmat[a, a]
+    floor = DEGENERATE * (tr / d) ** d
     if d == 1:
         det = kmat[0, 0]
-        fout[i, 0, 0] = nmat[0, 0] / det if det > 0.0 else 1.0
+        fout[i, 0, 0] = nmat[0, 0] / det if det > floor else 1.0
         return det
     if d == 2:
         a, b, c, e = kmat[0, 0], kmat[0, 1], kmat[1, 0], kmat[1, 1]
         det = a * e - b * c
         inv = np.empty((2, 2))
-        if det > 0.0:
+        if det > floor:
             inv[0, 0], inv[0, 1], inv[1, 0], inv[1, 1] = e / det, -b / det, -c / det, a / det
     else:
         c00 = kmat[1, 1] * kmat[2, 2] - kmat[1, 2] * kmat[2, 1]
@@ -81,7 +90,7 @@ def _solve_right(nmat, kmat, d, fout, i):
         c02 = kmat[1, 0] * kmat[2, 1] - kmat[1, 1] * kmat[2, 0]
         det = kmat[0, 0] * c00 + kmat[0, 1] * c01 + kmat[0, 2] * c02
         inv = np.empty((3, 3))
-        if det > 0.0:
+        if det > floor:
             inv[0, 0], inv[1, 0], inv[2, 0] = c00 / det, c01 / det, c02 / det
             inv[0, 1] = (kmat[0, 2] * kmat[2, 1] - kmat[0, 1] * kmat[2, 2]) / det
             inv[1, 1] = (kmat[0, 0] * kmat[2, 2] - kmat[0, 2] * kmat[2, 0]) / det
@@ -91,7 +100,7 @@ def _solve_right(nmat, kmat, d, fout, i):
             inv[2, 2] = (kmat[0, 0] * kmat[1, 1] - kmat[0, 1] * kmat[1, 0]) / det
     for a in range(d):
         for b in range(d):
-            if det > 0.0:
+            if det > floor:
                 acc = 0.0
                 for c in range(d):
                     acc += nmat[a, c] * inv[c, b]
@@ -111,7 +120,7 @@ def deformation_gradient(x, u, offsets, bond_j, w, intact, out):
     offsets : (n + 1,) CSR offsets; bond_j : (n_bonds,) far points.
     w : (n_bonds,) bond weights (the partial volumes, m^3).
     intact : (n_bonds,) uint8, 1 for an intact bond.
-    out : (n, d, d) output F; the identity where K_i is singular.
+    out : (n, d, d) output F; the identity where K_i is singular (:data:`DEGENERATE`).
     """
     n = offsets.shape[0] - 1
     d = x.shape[1]
