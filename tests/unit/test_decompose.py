@@ -62,7 +62,7 @@ def _rank_layout(c: PointCloud, part: np.ndarray, rank: int, radius: float) -> t
     first = np.isin(ghosts, ghost_points(c.x, owned, radius))
     ghosts = np.concatenate([ghosts[first], ghosts[~first]])
     ids = np.concatenate([owned, ghosts])
-    return Layout(rank, int(part.max()) + 1, part, ids, len(owned), {}, {}), len(owned) + int(
+    return Layout(rank, int(part.max()) + 1, len(part), ids, len(owned), {}, {}), len(owned) + int(
         first.sum()
     )
 

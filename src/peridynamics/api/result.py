@@ -213,12 +213,11 @@ class Result:
     @cached_property
     def final(self) -> dict[str, NDArray]:
         """``final_state.npz`` (float64): ``u``, ``v`` (n, dim), ``damage`` (n,), ``x``,
-        ``intact`` (n_bonds,), ``t``, ``step`` and what the model adds."""
-        path = self.folder / "final_state.npz"
-        if not path.is_file():
-            raise FileNotFoundError(f"no final_state.npz in {str(self.folder)!r}")
-        with np.load(path) as data:
-            return {k: data[k] for k in data.files}
+        ``intact`` (n_bonds,), ``t``, ``step`` and what the model adds; the pieces of a
+        decomposed run joined (:func:`peridynamics.io.final_state.read_final_state`)."""
+        from peridynamics.io.final_state import read_final_state
+
+        return read_final_state(self.folder)
 
     @property
     def damage(self) -> NDArray[np.float64]:

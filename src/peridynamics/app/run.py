@@ -19,9 +19,15 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from peridynamics import deck as dk
-from peridynamics.app.run_folder import gather_intact, gather_rss, hold_folder
+from peridynamics.app.run_folder import (
+    final_stats,
+    gather_rss,
+    hold_folder,
+    write_final_pieces,
+)
 from peridynamics.app.run_progress import StopRequest, progress_bar, signal_name
 from peridynamics.app.run_resume import resume_point
 from peridynamics.build.outputs import run_options
@@ -53,7 +59,7 @@ class RunLoop:
     solver: Solver
     setup_s: float
     session: Any
-    global_cloud: PointCloud | None
+    global_cloud: Any
     #: the signal that stopped the run (SIGINT unless another was received)
     _stop_signal: int = int(signal.SIGINT)
     #: observers added to the deck's (the Python API's callbacks; they run first)
@@ -132,9 +138,14 @@ class RunLoop:
         every = int(checkpoint_every or 0)
         records["checkpoint_every"] = every
         ctx = self._context(out, records, finished)
-        observers = self._observers(ctx.run, ctx.model, every) if root else []
-        total = self._sync(state, 0, 0)[1]
-        self._observe(state, ctx, partial(_on_start, observers, ctx, resume), total)
+        observers: list[Observer] = []  # made inside the first hook: under MPI they may
+        total = self._sync(state, 0, 0)[1]  # gather (the other ranks serve then)
+
+        def start(v: State) -> None:
+            observers.extend(self._observers(ctx.run, ctx.model, every))
+            _on_start(observers, ctx, resume, v)
+
+        self._observe(state, ctx, start, total)
         n_total = solver.total_steps()
         t_start = time.perf_counter()
         steps_done_here = 0
@@ -291,6 +302,7 @@ class RunLoop:
                 "halo_exchanges": comm.exchanges,
                 "points_per_rank": comm.gather_objects(comm.n_owned),
                 "ghosts_per_rank": comm.gather_objects(comm.layout.n_local - comm.n_owned),
+                "set_up": self.session.set_up,
             }
 
         def finish(v: State) -> None:
@@ -298,6 +310,32 @@ class RunLoop:
 
         self._observe(s, ctx, finish, total)
         return got
+
+    def _write_final_state(self, ctx: RunContext, s: State, damage: NDArray) -> None:
+        """``final_state.npz`` of a serial run."""
+        m = ctx.model
+        extra_fields: dict[str, Any] = {}
+        try:  # the per-point random field (Weibull) a run drew, and no-fail points (inf)
+            extra_fields["critical_stretch"] = m.point_s0
+        except AttributeError:
+            pass
+        for group in m.force_model.dofs()[1:]:  # micropolar: theta (rad), moment (N m/m^3)
+            extra_fields[group.value] = s[group.value]
+            extra_fields[group.force] = s[group.force]
+        for name in ("interface_intact", "bond_kappa"):  # several bodies, softening bonds
+            if name in s:
+                extra_fields[name] = s[name]
+        save_npz(
+            ctx.out / "final_state.npz",
+            u=s.u,
+            v=s.v,
+            damage=damage,
+            t=s.t,
+            step=s.step,
+            x=m.cloud.x,
+            intact=s.intact,
+            **extra_fields,
+        )
 
     def _finish_root(
         self,
@@ -311,33 +349,14 @@ class RunLoop:
         ranks: dict[str, Any] | None = None,
     ) -> dict:
         m = ctx.model
-        damage = ctx.damage(s)
-        extra_fields: dict[str, Any] = {}
-        try:  # the per-point random field (Weibull) a run drew, and no-fail points (inf)
-            extra_fields["critical_stretch"] = m.point_s0
-        except AttributeError:
-            pass
-        for group in m.force_model.dofs()[1:]:  # micropolar: theta (rad), moment (N m/m^3)
-            extra_fields[group.value] = s[group.value]
-            extra_fields[group.force] = s[group.force]
-        distributed = self.session is not None
-        for name in ("interface_intact", "bond_kappa"):  # several bodies, softening bonds
-            if name in s and not distributed:
-                extra_fields[name] = s[name]
-        if not distributed:
-            extra_fields["intact"] = s.intact
-        elif self.session is not None:  # gathered into the serial run's bond order
-            extra_fields["intact"] = self.session.call("call", gather_intact)
-        save_npz(
-            ctx.out / "final_state.npz",
-            u=s.u,
-            v=s.v,
-            damage=damage,
-            t=s.t,
-            step=s.step,
-            x=m.cloud.x,
-            **extra_fields,
-        )
+        if self.session is not None:  # every rank writes its piece; numbers reduced
+            self.session.call("call", write_final_pieces, str(ctx.out))
+            max_damage, max_u, damaged = self.session.call("call", final_stats)
+        else:
+            damage = ctx.damage(s)
+            self._write_final_state(ctx, s, damage)
+            max_damage, max_u = float(damage.max()), float(np.abs(s.u).max())
+            damaged = float(np.mean(damage >= 0.3))
         kinetic, strain = ctx.energies(s)
         results: dict[str, Any] = {
             "n_points": m.cloud.n_points,
@@ -347,12 +366,12 @@ class RunLoop:
             **self.solver.summary_fields(s),
             "steps": s.step,
             "final_time_s": s.t,
-            "max_damage": float(damage.max()),
+            "max_damage": max_damage,
             "bonds_broken": s.bonds_broken,
-            "max_displacement_m": float(np.abs(s.u).max()),
+            "max_displacement_m": max_u,
             "kinetic_energy_J": kinetic,
             "strain_energy_J": strain,
-            "damaged_area_fraction": float(np.mean(damage >= 0.3)),
+            "damaged_area_fraction": damaged,
         }
         if m.cloud.grid_fit:  # lengths that were not whole multiples of the spacing
             results["geometry_fit"] = [f.as_dict() for f in m.cloud.grid_fit]

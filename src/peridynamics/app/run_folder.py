@@ -1,6 +1,6 @@
 """What a run does with its output folder and with the whole decomposed body at its
-end: hold the folder (:class:`~peridynamics.io.run_lock.RunLock`), gather the bond
-flags and the memory of every rank."""
+end: hold the folder (:class:`~peridynamics.io.run_lock.RunLock`), write the final
+state by pieces, reduce its numbers, gather the memory of every rank."""
 
 from __future__ import annotations
 
@@ -8,9 +8,9 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
 from peridynamics.build.errors import SetupError
+from peridynamics.io.final_state import write_index, write_piece
 from peridynamics.io.run_lock import FolderLocked, RunLock
 
 
@@ -45,19 +45,38 @@ def gather_rss(session: Any) -> list[float]:
     return list(session.comm.gather_objects(peak_rss_gib()))
 
 
-def gather_intact(session: Any) -> NDArray[np.bool_] | None:
-    """Every rank: send the flags of its owned bonds to rank 0, which returns them in
-    the order of a serial run's bonds (by global point id, then neighbour id)."""
-    m, s = session.model, session.state
-    b, end = m.bonds, int(m.owned_bonds)
-    gid = np.asarray(m.cloud.global_ids, dtype=np.int64)
-    rows = np.repeat(np.arange(len(b.offsets) - 1), np.diff(np.asarray(b.offsets)))[:end]
-    n = np.int64(session.global_cloud.n_points)
-    key = gid[rows] * n + gid[np.asarray(b.bond_j[:end])]
-    mine = (key, np.asarray(s.intact[:end], dtype=bool))
-    parts = session.comm.gather_root(mine)  # to rank 0 only, counted (to_root)
-    if not session.root:
-        return None
-    keys = np.concatenate([k for k, _ in parts])
-    flags = np.concatenate([f for _, f in parts])
-    return flags[np.argsort(keys, kind="stable")]
+def write_final_pieces(session: Any, out: str) -> None:
+    """Every rank: its piece of ``final_state.npz`` (its owned points' rows and their
+    bonds' flags; :mod:`peridynamics.io.final_state`); rank 0 also the index."""
+    m, s, comm = session.model, session.state, session.comm
+    n = comm.n_owned
+    fields = {
+        "u": s.u[:n],
+        "v": s.v[:n],
+        "damage": session.local_damage()[:n],
+        "x": m.cloud.x[:n],
+    }
+    try:  # the per-point random field (Weibull) a run drew, and no-fail points (inf)
+        fields["critical_stretch"] = np.asarray(m.point_s0)[:n]
+    except AttributeError:
+        pass
+    gid = np.asarray(m.cloud.global_ids, dtype=np.int64)[:n]
+    sizes = np.diff(np.asarray(m.bonds.offsets[: n + 1], dtype=np.int64)).astype(np.int64)
+    write_piece(Path(out), comm.rank, gid, sizes, s.intact[: int(m.owned_bonds)], **fields)
+    if session.root:
+        write_index(Path(out), comm.size, comm.n_global, s.t, s.step)
+
+
+def final_stats(session: Any) -> tuple[float, float, float]:
+    """(largest point damage, largest displacement component (m), fraction of points
+    with damage >= 0.3) of the whole body, reduced over the ranks (the serial values bit
+    for bit: maxima and a count)."""
+    s, comm = session.state, session.comm
+    n = comm.n_owned
+    damage = session.local_damage()[:n]
+    u = np.abs(s.u[:n])
+    return (
+        comm.max(float(damage.max()) if n else 0.0),
+        comm.max(float(u.max()) if u.size else 0.0),
+        comm.sum(float(np.count_nonzero(damage >= 0.3))) / comm.n_global,
+    )

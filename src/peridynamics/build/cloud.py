@@ -92,7 +92,7 @@ def build_cloud(deck: dk.Deck) -> PointCloud:
             raise SetupError(f"node_sets.{name}", "node sets refer to each other in a cycle")
         visiting.add(name)
         spec = deck.node_sets[name]
-        _collect_refs(spec, resolve)
+        collect_refs(spec, resolve)
         try:
             idx = cloud.select(to_region(spec, sets, cloud.spacing))
         except ValueError as exc:
@@ -109,32 +109,38 @@ def build_cloud(deck: dk.Deck) -> PointCloud:
 
     for name in deck.node_sets:
         resolve(name)
-    warn_horizon(deck, cloud)
+    warn_horizon(deck, *cloud.bounds, cloud.n_points, cloud.spacing)
     return cloud.with_node_sets(**sets)
 
 
-def _collect_refs(spec: dk.RegionSpec, resolve: Callable[[str], Any]) -> None:
+def collect_refs(spec: dk.RegionSpec, resolve: Callable[[str], Any]) -> None:
+    """Call ``resolve`` on every node set a region spec refers to (``set``, nested)."""
     k = spec.kind()
     v = getattr(spec, k)
     if k == "set":
         resolve(v)
     elif k in ("all_of", "any_of"):
         for s in v:
-            _collect_refs(s, resolve)
+            collect_refs(s, resolve)
     elif k == "not_":
-        _collect_refs(v, resolve)
+        collect_refs(v, resolve)
 
 
-def build_bonds_for(deck: dk.Deck, cloud: PointCloud) -> Bonds:
+def build_bonds_for(
+    deck: dk.Deck,
+    cloud: PointCloud,
+    bounds: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
+) -> Bonds:
     """Bonds with partial volumes, pre-cracks and the bonds across notches cut.
 
     A notch cuts like a pre-crack along its centre line (``Notch.crack``); in 3-D a
-    notch without a z-range cuts over the body's z-extent widened by one spacing."""
+    notch without a z-range cuts over the body's z-extent widened by one spacing
+    (``bounds``: the corners of the whole body when ``cloud`` is a rank's part)."""
     d = deck.discretisation
     notches = deck_notches(deck)
     z_bounds = None
     if notches and cloud.dim == 3:
-        lo, hi = cloud.bounds
+        lo, hi = cloud.bounds if bounds is None else bounds
         z_bounds = (float(lo[2]) - cloud.spacing, float(hi[2]) + cloud.spacing)
     try:
         cracks = [make_crack(c.points) for c in deck.precracks]

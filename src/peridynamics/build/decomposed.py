@@ -1,10 +1,12 @@
 """Build one rank's part of a decomposed run from a deck (``mpiexec -n N peridynamics run``).
 
-Every rank builds the global point cloud, cuts out its points and ghosts
-(:mod:`peridynamics.parallel.local`), builds the bonds of its owned points and of the
-first ghost layer on that local cloud, then the model, loads and solver exactly as a
-serial run does, with the MPI communicator active
-(:func:`~peridynamics.communicator.using`).
+A body that is a regular grid is made by every rank without the global point cloud:
+each makes only its owned points and ghosts (:mod:`peridynamics.build.windowed`).
+Other bodies (jittered or mesh geometries, several bodies) are built whole on every
+rank, which then cuts out its points and ghosts (:mod:`peridynamics.parallel.local`).
+Either way a rank builds the bonds of its owned points and of the first ghost layer on
+that local cloud, then the model, loads and solver exactly as a serial run does, with
+the MPI communicator active (:func:`~peridynamics.communicator.using`).
 What a decomposed run cannot do yet is refused here with the key that asks for it.
 """
 
@@ -19,8 +21,12 @@ from peridynamics.build.cloud import build_bonds_for, build_cloud
 from peridynamics.build.errors import SetupError
 from peridynamics.build.loads import build_conditions
 from peridynamics.build.materials import build_model
+from peridynamics.build.plausibility import warn_horizon
 from peridynamics.build.solvers import build_solver
+from peridynamics.build.windowed import agreed, cloud_meta, conditions, deck_lattice
+from peridynamics.build.windowed import local_cloud as windowed_cloud
 from peridynamics.communicator import using
+from peridynamics.geometry.lattice import Lattice
 from peridynamics.parallel.local import (
     decompose,
     local_cloud,
@@ -28,6 +34,7 @@ from peridynamics.parallel.local import (
     own_families,
 )
 from peridynamics.parallel.mpi import MPICommunicator
+from peridynamics.parallel.windowed import windowed_layout
 
 
 def _refuse(deck: dk.Deck, size: int) -> None:
@@ -54,13 +61,71 @@ def ghost_families(deck: dk.Deck, cloud: Any) -> bool:
     moment surface correction of irregular clouds); not for plain bond-based PMB, which
     reads only u and v there (one layer, no redundant work)."""
     plain = deck.material.model in ("pmb", "bond_based") and deck.damage.bond_law == "brittle"
-    return not plain or deck.damage.sed_softening is not None or cloud.irregular
+    irregular = bool(getattr(cloud, "irregular", False))  # a lattice is regular
+    return not plain or deck.damage.sed_softening is not None or irregular
 
 
 def build_distributed(deck: dk.Deck, comm: Any) -> dict[str, Any]:
-    """The objects of this rank: ``cloud`` (local), ``global_cloud``, ``model``,
-    ``solver``, ``communicator`` (a :class:`MPICommunicator`) and ``n_family`` (points
-    with a bond family: owned and first ghost layer)."""
+    """The objects of this rank: ``cloud`` (local), ``global_cloud`` (the whole cloud,
+    or a :class:`~peridynamics.parallel.global_cloud.CloudMeta` when no rank made it),
+    ``model``, ``solver``, ``communicator`` (a :class:`MPICommunicator`), ``n_family``
+    (points with a bond family: owned and first ghost layer) and ``set_up`` (how:
+    ``"windowed"`` or ``"replicated"``, with the replicated bytes per rank)."""
+    if deck.geometry.type != "bar":
+        _refuse(deck, int(comm.Get_size()))
+        lattice = deck_lattice(deck)
+        if lattice is not None:
+            return _build_windowed(deck, comm, lattice)
+    return _build_replicated(deck, comm)
+
+
+def _radii(deck: dk.Deck, spacing: float, families: bool) -> tuple[float, float]:
+    """(bond search radius, ghost radius) (m)."""
+    d = deck.discretisation
+    radius = search_radius(d.delta, spacing, d.partial_volume)
+    ghost_radius = (2.0 if families else 1.0) * radius
+    if deck.contact is not None:  # points that may touch an owned point
+        ghost_radius += deck.contact.distance_factor * spacing
+    return radius, ghost_radius
+
+
+def _build_windowed(deck: dk.Deck, comm: Any, lattice: Lattice) -> dict[str, Any]:
+    """:func:`build_distributed` of a lattice body (:mod:`peridynamics.build.windowed`)."""
+    families = ghost_families(deck, lattice)
+    radius, ghost_radius = _radii(deck, lattice.spacing, families)
+    part = agreed(comm, lambda: _windowed(comm, lattice, radius, ghost_radius, families))
+    lay = part.layout
+    cloud = windowed_cloud(deck, lattice, part, comm)
+    meta = cloud_meta(lattice, cloud, lay.n_owned, comm, lay.n_global)
+    if comm.Get_rank() == 0:
+        warn_horizon(deck, meta.lo, meta.hi, meta.n_points, meta.spacing)
+    body, kin, init = conditions(deck, cloud, lay.n_owned, comm)
+    mpi = MPICommunicator(comm, lay)
+    with using(mpi):
+        bonds = build_bonds_for(deck, cloud, (meta.lo, meta.hi))
+        bonds = own_families(bonds, cloud, part.n_family)
+        model = build_model(deck, cloud, bonds, body)
+        solver = build_solver(deck, cloud, model, body, kin, init)
+    return {
+        "cloud": cloud,
+        "global_cloud": meta,
+        "model": model,
+        "solver": solver,
+        "communicator": mpi,
+        "n_family": part.n_family,
+        "set_up": {"how": "windowed", "replicated_bytes": part.replicated_bytes},
+    }
+
+
+def _windowed(comm: Any, lattice: Lattice, radius: float, ghost: float, families: bool) -> Any:
+    try:
+        return windowed_layout(comm, lattice, radius, ghost, families)
+    except ValueError as exc:
+        raise SetupError("geometry", str(exc)) from None
+
+
+def _build_replicated(deck: dk.Deck, comm: Any) -> dict[str, Any]:
+    """:func:`build_distributed` of a body every rank builds whole."""
     size = int(comm.Get_size())
     global_cloud = build_cloud(deck)
     if global_cloud.dim == 1:
@@ -68,12 +133,8 @@ def build_distributed(deck: dk.Deck, comm: Any) -> dict[str, Any]:
             "geometry", f"1-D runs are not decomposed; run it on one rank (not mpiexec -n {size})"
         )
     _refuse(deck, size)
-    d = deck.discretisation
-    radius = search_radius(d.delta, global_cloud.spacing, d.partial_volume)
     families = ghost_families(deck, global_cloud)
-    ghost_radius = (2.0 if families else 1.0) * radius
-    if deck.contact is not None:  # points that may touch an owned point
-        ghost_radius += deck.contact.distance_factor * global_cloud.spacing
+    radius, ghost_radius = _radii(deck, global_cloud.spacing, families)
     layout, n_family = decompose(comm, global_cloud, radius, ghost_radius, families)
     cloud = local_cloud(global_cloud, layout)
     mpi = MPICommunicator(comm, layout)
@@ -83,7 +144,7 @@ def build_distributed(deck: dk.Deck, comm: Any) -> dict[str, Any]:
         for group in build_conditions(deck, global_cloud)
     )
     with using(mpi):
-        bonds = own_families(build_bonds_for(deck, cloud), cloud, n_family)
+        bonds = own_families(build_bonds_for(deck, cloud, global_cloud.bounds), cloud, n_family)
         model = build_model(deck, cloud, bonds, body)
         solver = build_solver(deck, cloud, model, body, kin, init)
     return {
@@ -93,4 +154,5 @@ def build_distributed(deck: dk.Deck, comm: Any) -> dict[str, Any]:
         "solver": solver,
         "communicator": mpi,
         "n_family": n_family,
+        "set_up": {"how": "replicated", "replicated_bytes": int(global_cloud.x.nbytes)},
     }

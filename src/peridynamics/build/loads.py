@@ -127,8 +127,16 @@ CONDITIONS: dict[str, Condition] = {
 }
 
 
-def build_conditions(deck: dk.Deck, cloud: PointCloud) -> tuple[list, list, list]:
-    """(body forces, kinematic constraints, initial velocities)."""
+def build_conditions(
+    deck: dk.Deck,
+    cloud: PointCloud,
+    on: Callable[[Any], tuple[PointCloud, Callable[[Any], Any]] | None] | None = None,
+) -> tuple[list, list, list]:
+    """(body forces, kinematic constraints, initial velocities).
+
+    ``on(spec)``, when given, may build a condition on another cloud than ``cloud``
+    (a set gathered from every rank): it returns that cloud and what to do with the
+    condition built there (make it local), or ``None`` for ``cloud`` itself."""
     groups: dict[str, list[Any]] = {"body": [], "kin": [], "init": []}
     owner = np.full((cloud.n_points, cloud.dim), -1)  # which kinematic BC holds a dof
     for ibc, spec in enumerate(deck.boundary_conditions):
@@ -145,7 +153,13 @@ def build_conditions(deck: dk.Deck, cloud: PointCloud) -> tuple[list, list, list
                     "overlap); a degree of freedom can have one kinematic condition only",
                 )
             owner[np.ix_(nodes, comps)] = ibc
-        group, item = CONDITIONS[spec.type](spec, ibc, nodes, cloud)
+        elsewhere = on(spec) if on is not None else None
+        if elsewhere is None:
+            group, item = CONDITIONS[spec.type](spec, ibc, nodes, cloud)
+        else:
+            where, back = elsewhere
+            group, item = CONDITIONS[spec.type](spec, ibc, where.node_set(spec.set), where)
+            item = back(item)
         groups[group].append(item)
     return groups["body"], groups["kin"], groups["init"]
 

@@ -42,10 +42,12 @@ def _horizon_key(deck: dk.Deck) -> str:
     return "discretisation.horizon" if d.horizon is not None else "discretisation.horizon_factor"
 
 
-def warn_horizon(deck: dk.Deck, cloud: PointCloud) -> None:
+def warn_horizon(
+    deck: dk.Deck, lo: NDArray[np.float64], hi: NDArray[np.float64], n_points: int, spacing: float
+) -> None:
     """Warn when the horizon exceeds :data:`HORIZON_FRACTION` of the body's largest
-    extent (m)."""
-    extent = float(np.max(cloud.bounds[1] - cloud.bounds[0])) if cloud.n_points > 1 else 0.0
+    extent (m): ``lo``, ``hi`` are the corners of its bounding box (m)."""
+    extent = float(np.max(hi - lo)) if n_points > 1 else 0.0
     delta = deck.discretisation.delta
     if extent <= 0.0 or delta <= HORIZON_FRACTION * extent:
         return
@@ -53,7 +55,7 @@ def warn_horizon(deck: dk.Deck, cloud: PointCloud) -> None:
         f"{_horizon_key(deck)}: the horizon {delta:.6g} m is larger than half the body's "
         f"largest extent ({extent:.6g} m): every point is bonded to nearly every other "
         f"and the model is no longer local (the horizon is usually about 3 spacings, "
-        f"horizon_factor: 3.015; spacing {cloud.spacing:.6g} m)",
+        f"horizon_factor: 3.015; spacing {spacing:.6g} m)",
         ImplausibleInput,
         stacklevel=2,
     )

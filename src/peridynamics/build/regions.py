@@ -10,8 +10,11 @@ from peridynamics.deck import RegionSpec
 from peridynamics.geometry import regions as rg
 
 
-class _Indices(rg.Region):
-    """A fixed set of indices (a reference to another node set)."""
+class IndexSet(rg.Region):
+    """A fixed set of point indices (a reference to another node set, a point chosen on
+    the whole body): selects those rows of the points it is given."""
+
+    pointwise = False
 
     def __init__(self, idx: np.ndarray) -> None:
         self.idx = idx
@@ -50,7 +53,7 @@ def to_region(
     if k == "set":
         if known_sets is None or v not in known_sets:
             raise KeyError(f"node set {v!r} is not defined before it is used")
-        return _Indices(np.asarray(known_sets[v]))
+        return IndexSet(np.asarray(known_sets[v]))
     parts = [to_region(s, known_sets, spacing) for s in (v if isinstance(v, list) else [v])]
     if k == "all_of":
         out = parts[0]

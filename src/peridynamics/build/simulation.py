@@ -44,8 +44,9 @@ class SimulationSetup:
     setup_s: float = 0.0
     #: a decomposed run (``mpiexec -n N``): the collective side (None when serial)
     session: Any = None
-    #: a decomposed run: the whole body (``cloud`` is this rank's part)
-    global_cloud: PointCloud | None = None
+    #: a decomposed run: the whole body (``cloud`` is this rank's part); a
+    #: :class:`~peridynamics.parallel.global_cloud.GlobalCloud` view when no rank made it
+    global_cloud: Any = None
 
     @classmethod
     def from_deck(cls, deck: dk.Deck, comm: Any = None) -> Self:
@@ -60,10 +61,11 @@ class SimulationSetup:
 
             parts = build_distributed(deck, comm)
             session = Session(parts["communicator"], parts["model"], parts["global_cloud"])
+            session.set_up = parts["set_up"]
             return cls(
                 deck, parts["cloud"], parts["model"], parts["solver"],
                 setup_s=time.perf_counter() - t0, session=session,
-                global_cloud=parts["global_cloud"],
+                global_cloud=session.global_cloud,
             )  # fmt: skip
         cloud = build_cloud(deck)
         bonds = build_bonds_for(deck, cloud)

@@ -39,69 +39,28 @@ correction: E -0.8 % instead of -1.6 % at jitter 0.25, -1.0 % instead of -2.6 % 
 
 from __future__ import annotations
 
-import math
 import warnings
 from collections.abc import Sequence
 from typing import Literal
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
 from peridynamics.geometry.cloud import GeometryFitWarning, GridFit, Plane, PointCloud
 from peridynamics.geometry.jitter import jittered
-from peridynamics.geometry.regions import Ball, CylinderRegion, Region
+from peridynamics.geometry.lattice import (
+    Lattice,
+    box_lattice,
+    cylinder_lattice,
+    disc_lattice,
+    fit_cells,
+    rectangle_lattice,
+)
+from peridynamics.geometry.regions import Region
+
+__all__ = ["bar", "box", "cylinder", "disc", "fit_cells", "rectangle"]
 
 NodalVolumes = Literal["voronoi", "cell"]
-
-
-def fit_cells(length: float, dx: float, what: str) -> tuple[int, GridFit | None]:
-    """Whole cells of side ``dx`` (m) that fit in ``length`` (m), and the fit record.
-
-    An exact multiple (``|round(L / dx) dx - L| <= 1e-6 L``) gives ``round(L / dx)``
-    cells and ``None``: the grid starts at the origin, as it always did. Otherwise
-    ``n = floor(L / dx)`` cells, centred in ``L``, and a :class:`GridFit` saying so.
-    ``L < dx`` (no whole cell fits) is a ``ValueError`` naming ``what``.
-    """
-    if not length > 0:
-        raise ValueError(f"{what} must be > 0, got {length}")
-    if not dx > 0:
-        raise ValueError(f"spacing must be > 0, got {dx}")
-    n = int(round(length / dx))
-    if n >= 1 and abs(n * dx - length) <= 1e-6 * length:
-        return n, None
-    n = int(np.floor(length / dx))
-    if n < 1:
-        raise ValueError(
-            f"{what} = {length} m is shorter than the spacing {dx} m: no whole grid cell "
-            f"fits; use a spacing <= {length} m"
-        )
-    return n, GridFit(what, float(length), n, float(dx))
-
-
-def _axis(
-    lo: float, length: float, dx: float, what: str
-) -> tuple[NDArray[np.float64], float, GridFit | None]:
-    """Cell centres (n,) of the grid fitted into [lo, lo + length] (m), the grid's lower
-    end (m) and the fit record (``None`` for an exact multiple, then the centres are
-    ``lo + (k + 1/2) dx`` bit for bit)."""
-    n, fit = fit_cells(length, dx, what)
-    start = lo if fit is None else lo + fit.margin
-    return np.asarray(start + (np.arange(n) + 0.5) * dx, dtype=np.float64), start, fit
-
-
-def _grid(
-    origin: Sequence[float], size: Sequence[float], dx: float, names: Sequence[str]
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], tuple[GridFit, ...]]:
-    """Cell centres (n, dim) of a box grid in grid order ("ij"), its lower and upper
-    corners (dim,) (m) and the fit records of the sides that are not multiples of dx."""
-    axes = [_axis(origin[k], size[k], dx, names[k]) for k in range(len(size))]
-    g = np.meshgrid(*(a[0] for a in axes), indexing="ij")
-    x = np.column_stack([a.ravel() for a in g])
-    lo = np.array([a[1] for a in axes], dtype=np.float64)
-    hi = lo + np.array([a[0].size for a in axes]) * dx
-    fits = tuple(a[2] for a in axes if a[2] is not None)
-    _warn(fits)
-    return x, lo, hi, fits
 
 
 def _warn(fits: Sequence[GridFit], level: int = 4) -> None:
@@ -186,18 +145,9 @@ def rectangle(
     volumes : {"voronoi", "cell"}
         Nodal volumes of a jittered grid (module docstring); ignored at ``jitter = 0``.
     """
-    x, lo, hi, fits = _grid(origin, size, dx, ("size[0]", "size[1]"))
-    x, vol = jittered(x, dx, lo, hi, jitter, seed, volumes)
-    cloud = PointCloud(
-        x=x,
-        volume=vol * thickness,
-        spacing=dx,
-        cross_section=thickness,
-        plane=plane,
-        irregular=bool(jitter > 0),
-        grid_fit=fits,
-    )
-    return _cut(cloud, holes)
+    lattice = rectangle_lattice(size, dx, thickness, origin, plane, holes)
+    _warn(lattice.grid_fit, level=3)
+    return _jittered_cloud(lattice, jitter, seed, volumes, thickness)
 
 
 def box(
@@ -216,10 +166,9 @@ def box(
     ``holes``, ``jitter``, ``seed`` and ``volumes`` as in :func:`rectangle` (nodal
     volumes in m^3).
     """
-    x, lo, hi, fits = _grid(origin, size, dx, ("size[0]", "size[1]", "size[2]"))
-    x, vol = jittered(x, dx, lo, hi, jitter, seed, volumes)
-    cloud = PointCloud(x=x, volume=vol, spacing=dx, irregular=bool(jitter > 0), grid_fit=fits)
-    return _cut(cloud, holes)
+    lattice = box_lattice(size, dx, origin, holes)
+    _warn(lattice.grid_fit, level=3)
+    return _jittered_cloud(lattice, jitter, seed, volumes)
 
 
 def cylinder(
@@ -242,17 +191,9 @@ def cylinder(
     ``dx^3`` each, a :class:`GeometryFitWarning`). ``holes``, ``jitter``, ``seed`` and
     ``volumes`` as in :func:`rectangle`.
     """
-    if not radius > 0:
-        raise ValueError("radius must be > 0")
-    o = np.asarray(origin, dtype=float)
-    n_r = int(np.ceil(radius / dx))
-    span = 2 * n_r * dx
-    corner = (o[0] - n_r * dx, o[1] - n_r * dx, o[2])
-    x, lo, hi, fits = _grid(corner, (span, span, length), dx, ("span", "span", "length"))
-    x, vol = jittered(x, dx, lo, hi, jitter, seed, volumes)
-    cloud = PointCloud(x=x, volume=vol, spacing=dx, irregular=bool(jitter > 0), grid_fit=fits)
-    inside = CylinderRegion(base=o, axis=(0, 0, 1), radius=radius, length=length)
-    return _cut(cloud, [~inside, *holes])
+    lattice = cylinder_lattice(radius, length, dx, origin, holes)
+    _warn(lattice.grid_fit, level=3)
+    return _jittered_cloud(lattice, jitter, seed, volumes)
 
 
 def disc(
@@ -297,34 +238,27 @@ def disc(
     PointCloud
         Points (n, 2) in m, volumes (n,) in m^3.
     """
-    if not radius > 0:
-        raise ValueError(f"radius must be > 0, got {radius}")
-    if not dx > 0:
-        raise ValueError(f"spacing must be > 0, got {dx}")
-    if radius < dx / math.sqrt(2.0) * (1.0 - 1e-12):
-        raise ValueError(
-            f"radius = {radius} m is below spacing / sqrt(2) = {dx / math.sqrt(2.0):.6g} m: "
-            "no grid point lies inside the disc (the nearest are (+-dx/2, +-dx/2) from "
-            f"its centre); use a spacing <= {radius * math.sqrt(2.0):.6g} m"
-        )
-    c = np.asarray(center, dtype=np.float64)
-    if c.shape != (2,):
-        raise ValueError(f"center must be 2 coordinates [x, y], got shape {c.shape}")
-    n_r = max(1, int(np.ceil(radius / dx * (1.0 - 1e-9))))
-    offsets = (np.arange(-n_r, n_r) + 0.5) * dx  # exactly antisymmetric about 0
-    gx, gy = np.meshgrid(c[0] + offsets, c[1] + offsets, indexing="ij")
-    x = np.column_stack([gx.ravel(), gy.ravel()])
-    lo, hi = c - n_r * dx, c + n_r * dx
-    x, vol = jittered(x, dx, lo, hi, jitter, seed, volumes)
+    lattice = disc_lattice(radius, dx, center, thickness, plane, holes)
+    return _jittered_cloud(lattice, jitter, seed, volumes, thickness)
+
+
+def _jittered_cloud(
+    lattice: Lattice, jitter: float, seed: int, volumes: NodalVolumes, thickness: float = 1.0
+) -> PointCloud:
+    """The points of a lattice, jittered over its whole grid before the cuts (``jitter =
+    0``: :meth:`Lattice.cloud`, bit for bit)."""
+    x, vol = jittered(lattice.grid(), lattice.spacing, lattice.lo, lattice.hi, jitter, seed,
+                      volumes)  # fmt: skip
     cloud = PointCloud(
         x=x,
-        volume=vol * thickness,
-        spacing=dx,
-        cross_section=thickness,
-        plane=plane,
+        volume=vol * thickness if lattice.dim == 2 else vol,
+        spacing=lattice.spacing,
+        cross_section=lattice.cross_section,
+        plane=lattice.plane,
         irregular=bool(jitter > 0),
+        grid_fit=lattice.grid_fit,
     )
-    return _cut(cloud, [~Ball(c, radius), *holes])
+    return _cut(cloud, lattice.removed)
 
 
 def _cut(cloud: PointCloud, holes: Sequence[Region]) -> PointCloud:

@@ -12,7 +12,7 @@ mask, shape (n_points,). Regions combine with ``&`` (intersection),
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -22,7 +22,15 @@ BoolArray = NDArray[np.bool_]
 
 
 class Region(ABC):
-    """Base class: a predicate over reference positions."""
+    """Base class: a predicate over reference positions.
+
+    ``pointwise`` says whether a point's membership depends on its own position only
+    (True for the geometric shapes); a region that looks at the other points (the
+    outermost layer, the nearest point, a list of indices) sets it False, and
+    :func:`is_pointwise` tells whether a combination is.
+    """
+
+    pointwise: bool = True
 
     @abstractmethod
     def mask(self, x: NDArray[np.float64]) -> BoolArray:
@@ -220,6 +228,8 @@ class NearestPoint(Region):
     (a probe placed outside the body or in a hole).
     """
 
+    pointwise = False
+
     location: tuple[float, ...]
     max_distance: float
 
@@ -249,12 +259,17 @@ class Layer(Region):
     Selects points whose projection on the unit ``normal`` lies within ``depth`` (m) of
     the largest projection over all points passed to :meth:`mask` (the body's surface).
     With ``depth = k * spacing`` on a grid this is exactly ``k`` rows at any resolution.
+    ``top`` (m), when given, replaces that largest projection (the body's, when
+    :meth:`mask` sees only a part of it: a rank's points).
     """
+
+    pointwise = False
 
     normal: tuple[float, ...]
     depth: float
+    top: float | None
 
-    def __init__(self, normal: ArrayLike, depth: float) -> None:
+    def __init__(self, normal: ArrayLike, depth: float, top: float | None = None) -> None:
         n = _vec(normal)
         if not np.any(n):
             raise ValueError("normal must be non-zero")
@@ -262,9 +277,31 @@ class Layer(Region):
             raise ValueError("depth must be > 0")
         object.__setattr__(self, "normal", tuple((n / np.linalg.norm(n)).tolist()))
         object.__setattr__(self, "depth", float(depth))
+        object.__setattr__(self, "top", None if top is None else float(top))
 
     def mask(self, x: NDArray[np.float64]) -> BoolArray:
         proj = x @ np.asarray(self.normal)
         if proj.size == 0:
             return np.zeros(0, dtype=bool)
-        return proj > proj.max() - self.depth * (1.0 - 1e-6)
+        top = proj.max() if self.top is None else self.top
+        return proj > top - self.depth * (1.0 - 1e-6)
+
+
+def is_pointwise(region: Region) -> bool:
+    """Whether every point's membership in ``region`` depends on its position only
+    (through ``&``, ``|`` and ``~``), so any subset of the points can be tested alone."""
+    if isinstance(region, _Combined):
+        return all(is_pointwise(p) for p in region.parts)
+    if isinstance(region, _Not):
+        return is_pointwise(region.part)
+    return bool(region.pointwise)
+
+
+def map_leaves(region: Region, fn: Callable[[Region], Region]) -> Region:
+    """``region`` with every leaf (a region that is not ``&``, ``|`` or ``~`` of others)
+    replaced by ``fn(leaf)``, the combination kept."""
+    if isinstance(region, _Combined):
+        return _Combined(region.op, tuple(map_leaves(p, fn) for p in region.parts))
+    if isinstance(region, _Not):
+        return _Not(map_leaves(region.part, fn))
+    return fn(region)

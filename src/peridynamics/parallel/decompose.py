@@ -133,7 +133,8 @@ class Layout:
     Attributes
     ----------
     rank, size : this rank and the number of ranks.
-    part : (n_global,) int32 owner rank of every global point (the same on every rank).
+    n_global : number of points of the whole body (no rank holds a per-point array of
+        that length: the owners of the ghosts are found when the layout is made).
     local_ids : (n_local,) global ids of the local points, owned first then ghosts.
     n_owned : number of owned points (the first ``n_owned`` local points).
     recv : ``{rank q: local indices of the ghosts q owns}`` (increasing global id).
@@ -143,7 +144,7 @@ class Layout:
 
     rank: int
     size: int
-    part: NDArray[np.int32]
+    n_global: int
     local_ids: NDArray[np.intp]
     n_owned: int
     recv: dict[int, NDArray[np.intp]]
@@ -165,11 +166,9 @@ class Layout:
         return self.local_ids[self.n_owned :]
 
 
-def receive_lists(
-    part: NDArray[np.int32], ghosts: NDArray[np.intp], n_owned: int
-) -> dict[int, NDArray[np.intp]]:
-    """Local indices of the ghosts by owner rank (ghost local index = n_owned + k)."""
-    owners = part[ghosts]
+def receive_lists(owners: NDArray[np.int32], n_owned: int) -> dict[int, NDArray[np.intp]]:
+    """Local indices of the ghosts by owner rank (ghost local index = n_owned + k), from
+    the owner rank of every ghost, shape (n_ghost,)."""
     out: dict[int, NDArray[np.intp]] = {}
     for q in np.unique(owners):
         out[int(q)] = (n_owned + np.flatnonzero(owners == q)).astype(np.intp)

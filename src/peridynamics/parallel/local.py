@@ -65,8 +65,9 @@ def decompose(
     # the first layer: within the search radius (the bound ghost_points applies)
     first = dist <= search_radius * (1 + 1e-12) if ghost_families else np.zeros(len(ghosts), bool)
     ghosts = np.concatenate([ghosts[first], ghosts[~first]])
-    recv, send = build_exchange_lists(comm, part, owned, ghosts)
-    layout = Layout(rank, size, part, np.concatenate([owned, ghosts]), len(owned), recv, send)
+    recv, send = build_exchange_lists(comm, part[ghosts], owned, ghosts)
+    local_ids = np.concatenate([owned, ghosts])
+    layout = Layout(rank, size, cloud.n_points, local_ids, len(owned), recv, send)
     return layout, len(owned) + int(first.sum())
 
 

@@ -49,16 +49,18 @@ class MPICommunicator:
         self.size = int(comm.Get_size())
         self.n_owned = layout.n_owned
         self.owned = slice(0, layout.n_owned)
-        self.n_global = int(layout.part.shape[0])
+        self.n_global = int(layout.n_global)
         self.exchange_s = 0.0
         self.exchanges = 0
         self.to_root_bytes: dict[str, int] = {}
         self.to_root_label = "other"
-        counts = np.bincount(layout.part, minlength=self.size)
-        self._counts = counts.astype(np.int64)
+        counts = np.array(comm.allgather(int(layout.n_owned)), dtype=np.int64)
+        self._counts = counts
         self._displs = np.concatenate([[0], np.cumsum(counts)[:-1]]).astype(np.int64)
-        # global order of the rank-by-rank concatenation of owned points
-        self._order = np.argsort(layout.part, kind="stable")
+        # rank 0: global ids of the rank-by-rank concatenation of owned points (made at
+        # the first gather: no rank holds a per-point array of the whole body before)
+        self._order: NDArray[np.int64] | None = None
+        self._order_gathered = False
 
     # -- reductions --------------------------------------------------------------------
     def _reduce(self, value: float, op: Any) -> float:
@@ -147,6 +149,7 @@ class MPICommunicator:
         own = np.ascontiguousarray(field[: self.n_owned])
         tail = own.shape[1:]
         width = int(np.prod(tail)) if tail else 1
+        order = self._gather_order()
         if self.rank != 0:
             self.comm.Gatherv(own.reshape(-1), None, root=0)
             return None
@@ -157,8 +160,24 @@ class MPICommunicator:
         self._count_to_root(out.nbytes)
         by_rank = out.reshape((self.n_global, *tail))
         glob = np.empty_like(by_rank)
-        glob[self._order] = by_rank
+        assert order is not None
+        glob[order] = by_rank
         return glob
+
+    def _gather_order(self) -> NDArray[np.int64] | None:
+        """Rank 0: the global ids of every rank's owned points, rank by rank (gathered
+        once, collectively); ``None`` elsewhere."""
+        if self._order_gathered:
+            return self._order
+        self._order_gathered = True
+        ids = np.ascontiguousarray(self.layout.owned_ids, dtype=np.int64)
+        if self.rank != 0:
+            self.comm.Gatherv(ids, None, root=0)
+            return None
+        out = np.empty(self.n_global, dtype=np.int64)
+        self.comm.Gatherv(ids, [out, self._counts, self._displs, None], root=0)
+        self._order = out
+        return out
 
     def gather_root(self, obj: Any) -> list[Any] | None:
         """``obj`` of every rank, in rank order, on rank 0 (pickled); ``None`` elsewhere.
@@ -188,15 +207,23 @@ def _nbytes(obj: Any) -> int:
 
 
 def build_exchange_lists(
-    comm: Any, layout_part: NDArray[np.int32], owned: NDArray[np.intp], ghosts: NDArray[np.intp]
+    comm: Any, owners: NDArray[np.int32], owned: NDArray[np.intp], ghosts: NDArray[np.intp]
 ) -> tuple[dict[int, NDArray[np.intp]], dict[int, NDArray[np.intp]]]:
     """The receive and send lists of a rank (local indices), agreed with one
-    ``alltoall`` of the ghost ids each rank needs from each owner."""
+    ``alltoall`` of the ghost ids each rank needs from each owner.
+
+    Parameters
+    ----------
+    comm : mpi4py communicator.
+    owners : (n_ghost,) owner rank of every ghost.
+    owned, ghosts : sorted global ids of the owned points and of the ghosts (in their
+        local order).
+    """
     from peridynamics.parallel.decompose import find_sorted, receive_lists
 
     size = int(comm.Get_size())
     n_owned = len(owned)
-    recv = receive_lists(layout_part, ghosts, n_owned)
+    recv = receive_lists(owners, n_owned)
     requests: list[Any] = [None] * size
     for q, rows in recv.items():
         requests[q] = ghosts[rows - n_owned]

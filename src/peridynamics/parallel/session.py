@@ -29,6 +29,7 @@ from numpy.typing import NDArray
 
 from peridynamics.communicator import SERIAL
 from peridynamics.geometry.cloud import PointCloud
+from peridynamics.parallel.global_cloud import CloudMeta, GlobalCloud
 from peridynamics.parallel.mpi import MPICommunicator
 from peridynamics.state import State
 
@@ -55,13 +56,20 @@ class Session:
     ----------
     comm : the run's :class:`MPICommunicator`.
     model : this rank's model (its part of the body).
-    global_cloud : the whole body (every rank builds it).
+    global_cloud : the whole body, when every rank built it, or what every rank knows
+        of it (:class:`~peridynamics.parallel.global_cloud.CloudMeta`) when the ranks
+        made only their own points: observers then read a
+        :class:`~peridynamics.parallel.global_cloud.GlobalCloud`.
     """
 
-    def __init__(self, comm: MPICommunicator, model: Any, global_cloud: PointCloud) -> None:
+    def __init__(
+        self, comm: MPICommunicator, model: Any, global_cloud: PointCloud | CloudMeta
+    ) -> None:
         self.comm = comm
         self.model = model
-        self.global_cloud = global_cloud
+        self.global_cloud: PointCloud | GlobalCloud = (
+            GlobalCloud(self, global_cloud) if isinstance(global_cloud, CloudMeta) else global_cloud
+        )
         self.root = comm.rank == 0
         self.state: State | None = None
         self._handlers: dict[str, Callable[..., Any]] = {
@@ -71,12 +79,17 @@ class Session:
             "bond_counts": lambda: self.model.bond_counts(self._local()),
             "sed_field": self._sed_field,
             "attr": self._attr,
+            "cloud_field": lambda name: self._to_root(getattr(self.model.cloud, name)),
+            "node_set": self._node_set,
             "call": self._callable,
         }
         #: what requests keep between steps (the crack meter of the crack outputs)
         self.cache: dict[str, Any] = {}
         #: rank 0: requests made, by label (:func:`request_label`)
         self.requests: dict[str, int] = {}
+        #: how the ranks were set up (``how``: windowed or replicated, and the bytes every
+        #: rank holds whatever its share), reported in ``summary.json``
+        self.set_up: dict[str, Any] = {}
 
     # -- the protocol --------------------------------------------------------------------
     def call(self, name: str, *args: Any) -> Any:
@@ -160,6 +173,14 @@ class Session:
         except AttributeError as exc:
             return exc
         return self._to_root(np.asarray(value))
+
+    def _node_set(self, name: str) -> NDArray[np.intp] | None:
+        """The global ids of a node set's owned members of every rank, sorted, on rank 0."""
+        cloud = self.model.cloud
+        local = cloud.node_sets[name]
+        mine = np.asarray(cloud.global_ids)[local[local < self.comm.n_owned]]
+        parts = self.comm.gather_root(mine)
+        return None if parts is None else np.sort(np.concatenate(parts))
 
     def _callable(self, fn: Callable[..., Any], *args: Any) -> Any:
         return fn(self, *args)

@@ -33,9 +33,13 @@ class BondList(Observer):
         return [path.name]
 
 
-def _save_bonds(path: Path, table: dict[str, NDArray], model: Any) -> None:
-    """``bonds.npz`` of a bond table (:func:`half_bonds`)."""
-    cloud = model.cloud
+def _save_bonds(
+    path: Path, table: dict[str, NDArray], model: Any, points: dict[str, NDArray] | None = None
+) -> None:
+    """``bonds.npz`` of a bond table (:func:`half_bonds`) with the points of the model's
+    cloud, or ``points`` (a rank's owned points: ``x_m``, ``volume_m3``, ``point_ids``)."""
+    if points is None:
+        points = {"x_m": model.cloud.x, "volume_m3": model.cloud.volume}
     save_npz(
         path,
         i=table["i"].astype(np.int32),
@@ -43,9 +47,8 @@ def _save_bonds(path: Path, table: dict[str, NDArray], model: Any) -> None:
         length_m=table["length_m"].astype(np.float64),
         intact=table["intact"].astype(np.uint8),
         initially_intact=table["ini"].astype(np.uint8),
-        x_m=cloud.x,
-        volume_m3=cloud.volume,
         horizon_m=np.float64(model.bonds.horizon),
+        **points,
     )
 
 
@@ -68,8 +71,15 @@ def read_bonds(folder: str | Path) -> dict[str, NDArray]:
     out = {k: np.concatenate([p[k] for p in parts]) for k in keys}
     order = np.lexsort((out["j"], out["i"]))
     out = {k: v[order] for k, v in out.items()}
-    for k in ("x_m", "volume_m3", "horizon_m"):
-        out[k] = parts[0][k]
+    out["horizon_m"] = parts[0]["horizon_m"]
+    if "point_ids" not in parts[0]:  # files of 0.3.0: every rank stored the whole body
+        out["x_m"], out["volume_m3"] = parts[0]["x_m"], parts[0]["volume_m3"]
+        return out
+    ids = np.concatenate([p["point_ids"] for p in parts])
+    for k in ("x_m", "volume_m3"):
+        rows = np.concatenate([p[k] for p in parts])
+        out[k] = np.empty_like(rows)
+        out[k][ids] = rows
     return out
 
 
@@ -100,8 +110,8 @@ def half_bonds(
 
 
 def _write_rank_bonds(session: Any, out: str) -> list[str]:
-    """Every rank: ``ranks/rankNNNN/bonds.npz`` of its owned bonds, each once, in global
-    ids (with the whole body's points: :func:`read_bonds` joins them); the names."""
+    """Every rank: ``ranks/rankNNNN/bonds.npz`` of its owned bonds, each once, and its
+    owned points, in global ids (:func:`read_bonds` joins them); the names."""
     from peridynamics.parallel.session import rank_dir
 
     m, s, comm = session.model, session.state, session.comm
@@ -109,15 +119,12 @@ def _write_rank_bonds(session: Any, out: str) -> list[str]:
     folder = rank_dir(Path(out), comm.rank)
     folder.mkdir(parents=True, exist_ok=True)
     table = half_bonds(m.bonds, s.intact, end, m.cloud.global_ids)
-    _save_bonds(folder / "bonds.npz", table, _WholeBody(session))
+    own = slice(0, comm.n_owned)
+    points = {
+        "x_m": m.cloud.x[own],
+        "volume_m3": m.cloud.volume[own],
+        "point_ids": np.asarray(m.cloud.global_ids)[own].astype(np.int64),
+    }
+    _save_bonds(folder / "bonds.npz", table, m, points)
     names = comm.gather_objects(str((folder / "bonds.npz").relative_to(out)))
     return names if session.root else []
-
-
-class _WholeBody:
-    """The whole body's points and the horizon (what a bonds file stores beside the
-    bonds)."""
-
-    def __init__(self, session: Any) -> None:
-        self.cloud = session.global_cloud
-        self.bonds = session.model.bonds
