@@ -48,7 +48,9 @@ def test_doc_block_is_valid(n: int) -> None:
             deck["node_sets"].update(value)
         elif key == "geometry" and value.get("type") != "rectangle":
             deck["geometry"] = value
-            dim = {"bar": 1, "box": 3, "cylinder": 3}.get(value.get("type"), 2)
+            dim = {"bar": 1, "box": 3, "cylinder": 3, "surface": 3}.get(
+                value.get("type"), value.get("dim", 2)
+            )
             lo, hi = [0.0] * dim, [1e-3] * dim
             deck["node_sets"] = {k: {"box": {"min": lo, "max": hi}} for k in deck["node_sets"]}
         elif key == "geometry" and value.get("type") == "mesh":
