@@ -68,7 +68,7 @@ def load_surface(path: str | Path, scale: float = 1.0) -> Any:
     if not Path(path).is_file():
         raise ValueError(f"surface file {name!r} does not exist")
     try:
-        mesh = trimesh.load(name, force="mesh", process=True)
+        mesh: Any = trimesh.load(name, force="mesh", process=True)
     except Exception as exc:  # trimesh raises many kinds for a bad file
         raise ValueError(f"trimesh cannot read the surface {name!r}: {exc}") from None
     if not hasattr(mesh, "faces") or len(mesh.faces) == 0:
