@@ -14,6 +14,9 @@ from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+from numpy.typing import NDArray
+
 from peridynamics.api.deck import Deck
 from peridynamics.api.result import Result
 from peridynamics.app.checks import build_checked
@@ -22,6 +25,7 @@ from peridynamics.app.run import Simulation as _RunSimulation
 from peridynamics.build.errors import SetupError
 from peridynamics.deck.schema import Deck as DeckSchema
 from peridynamics.io.observers.base import Observer, RunContext
+from peridynamics.io.observers.point_fields import POINT_FIELDS, point_fields
 from peridynamics.solvers.base import StepResult
 from peridynamics.state import State
 
@@ -254,6 +258,29 @@ class Simulation:
         if sim.state is None:
             sim.state = sim.start_state = sim.solver.init()
         return sim.state
+
+    def field(self, name: str) -> NDArray[np.float64]:
+        """A computed point field of the current state, by its frame field name:
+        ``stress`` and ``strain`` (n, 3, 3) (Pa; dimensionless), ``von_mises`` and
+        ``pressure`` (n,) (Pa), ``principal_stress`` (n, 3) (Pa, largest first),
+        ``principal_direction`` (n, 3) (docs/stress.md). Serial runs only (under MPI
+        the frames carry these fields: ``output.fields``).
+
+        Raises
+        ------
+        KeyError
+            For a name that is not a computed field (the message lists them).
+        ValueError
+            Under MPI, or for a model without a stress (micropolar).
+        """
+        if name not in POINT_FIELDS:
+            raise KeyError(f"{name!r} is not a computed point field; known: {list(POINT_FIELDS)}")
+        if self._sim.session is not None:
+            raise ValueError("Simulation.field is serial; under MPI write it into the frames")
+        values = point_fields([name], self.model, self.state)[name]
+        if name in ("stress", "strain"):
+            values = values.reshape(-1, 3, 3)
+        return values
 
     @property
     def done(self) -> bool:

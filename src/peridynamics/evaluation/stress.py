@@ -33,6 +33,7 @@ from peridynamics.kernels import stress as kernels
 from peridynamics.state import State
 
 __all__ = [
+    "displacement_gradient",
     "point_strain",
     "point_stress",
     "poisson_ratio",
@@ -92,10 +93,11 @@ def point_stress(model: Any, state: State) -> NDArray[np.float64]:
     return out
 
 
-def point_strain(model: Any, state: State) -> NDArray[np.float64]:
-    """Small strain sym(F) - I of every point that owns a family (n, 3, 3)
-    (dimensionless), F the nonlocal deformation gradient of its intact bonds; zero
-    where the family is degenerate (fewer than ``dim`` independent intact bonds)."""
+def displacement_gradient(model: Any, state: State) -> NDArray[np.float64]:
+    """Displacement gradient F - I of every point that owns a family (n, d, d)
+    (dimensionless), F the nonlocal deformation gradient of its intact bonds
+    (:func:`peridynamics.kernels.stress.deformation_gradient`); zero where the family is
+    degenerate (fewer than ``dim`` independent intact bonds)."""
     b = model.bonds
     x = model.cloud.x
     n, d = len(b.offsets) - 1, x.shape[1]
@@ -104,8 +106,15 @@ def point_strain(model: Any, state: State) -> NDArray[np.float64]:
         x, state.u, b.offsets, b.bond_j, np.asarray(b.bond_volume, dtype=np.float64),
         state.intact, fgrad,
     )  # fmt: skip
-    eps = 0.5 * (fgrad + np.swapaxes(fgrad, 1, 2)) - np.eye(d)
-    out = _full(eps)
+    return np.asarray(fgrad - np.eye(d))
+
+
+def point_strain(model: Any, state: State) -> NDArray[np.float64]:
+    """Small strain sym(F) - I of every point that owns a family (n, 3, 3)
+    (dimensionless), from :func:`displacement_gradient`; in 2-D plane stress
+    eps_zz = -nu / (1 - nu) (eps_xx + eps_yy)."""
+    grad = displacement_gradient(model, state)
+    out = _full(0.5 * (grad + np.swapaxes(grad, 1, 2)))
     cloud = model.cloud
     if cloud.dim == 2 and cloud.plane == "stress":
         nu = poisson_ratio(model) or 0.0
