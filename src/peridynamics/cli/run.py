@@ -30,7 +30,7 @@ from peridynamics.cli.common import (
     large_arg,
     out_folder_problem,
 )
-from peridynamics.deck import MeshGeometry
+from peridynamics.deck import GmshGeometry, MeshGeometry
 
 
 def cmd_check(args: argparse.Namespace) -> int:
@@ -53,7 +53,7 @@ def cmd_check(args: argparse.Namespace) -> int:
         if problem:
             return refuse(problem)
         if args.bonds:
-            if isinstance(deck.geometry, MeshGeometry):  # the size is known once it is read
+            if isinstance(deck.geometry, MeshGeometry | GmshGeometry):  # known once read
                 problem = size_problem(deck, args.allow_large, build_cloud(deck).n_points)
                 if problem:
                     return refuse(problem)
