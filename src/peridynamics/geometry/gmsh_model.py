@@ -177,20 +177,26 @@ def from_gmsh(
     -------
     PointCloud
         Points (n, dim) (m) with volumes (n,) (m^3) and one node set per group.
+
+    Notes
+    -----
+    In a gmsh session the caller has open, the model read here becomes its current
+    model and the session stays open; otherwise gmsh is initialised and finalised here.
     """
     gmsh = _gmsh()
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"gmsh file {str(path)!r} does not exist")
-    if gmsh.isInitialized():
-        gmsh.finalize()
-    gmsh.initialize(readConfigFiles=False)
+    own = not gmsh.isInitialized()  # a caller's gmsh session is left open
+    if own:
+        gmsh.initialize(readConfigFiles=False)
     try:
         model_dim = _open(gmsh, path, mesh_size, dim, spacing / scale)
         x, size, by_entity = _cells(gmsh, model_dim, scale, path)
         sets = _group_sets(gmsh, model_dim, scale, x, by_entity, groups)
     finally:
-        gmsh.finalize()
+        if own:
+            gmsh.finalize()
     if model_dim == 2:
         return PointCloud(x=x, volume=size * thickness, spacing=spacing,
                           cross_section=thickness, plane=plane, node_sets=sets,
@@ -201,9 +207,9 @@ def from_gmsh(
 def model_dimension(path: str | Path) -> int:
     """The dimension of a Gmsh model (2 or 3) without meshing it."""
     gmsh = _gmsh()
-    if gmsh.isInitialized():
-        gmsh.finalize()
-    gmsh.initialize(readConfigFiles=False)
+    own = not gmsh.isInitialized()
+    if own:
+        gmsh.initialize(readConfigFiles=False)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         try:
@@ -212,4 +218,5 @@ def model_dimension(path: str | Path) -> int:
             raise ValueError(f"gmsh cannot read {str(path)!r}: {exc}") from None
         return int(gmsh.model.getDimension())
     finally:
-        gmsh.finalize()
+        if own:
+            gmsh.finalize()
