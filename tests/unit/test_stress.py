@@ -222,3 +222,34 @@ def test_a_family_without_stress_is_named() -> None:
     model = SimpleNamespace(force_model=SimpleNamespace(point_stress=lambda s: None, name="x"))
     with pytest.raises(ValueError, match="'x' model gives no point stress"):
         st.point_stress(model, None)  # type: ignore[arg-type]
+
+
+def test_frames_carry_the_stress_fields_and_result_reads_them_back(tmp_path) -> None:
+    import peridynamics as pd
+
+    deck = {
+        "name": "stress_frame",
+        "geometry": {"type": "rectangle", "size": [0.006, 0.004], "thickness": 1e-3,
+                     "plane": "strain"},
+        "discretisation": {"spacing": 5e-4, "horizon_factor": 3.015},
+        "material": {"model": "lps", "youngs_modulus": E, "poisson_ratio": 0.3,
+                     "density": 2700.0},
+        "damage": {"model": "none"},
+        "initial_conditions": [],
+        "solver": {"end_time": 2e-7},
+        "output": {"fields": ["displacement", "stress", "strain", "von_mises", "pressure",
+                              "principal_stress", "principal_direction"]},
+    }  # fmt: skip
+    deck.pop("initial_conditions")
+    sim = pd.Simulation(deck, out=tmp_path)
+    sim.state.u[:] = sim.model.cloud.x * 1e-4  # a uniform expansion before the run
+    res = sim.run()
+    got = res.fields()
+    n = sim.n_points
+    assert got["stress"].shape == (n, 3, 3) and got["strain"].shape == (n, 3, 3)
+    assert got["von_mises"].shape == (n,) and got["principal_direction"].shape == (n, 3)
+    now = sim.field("stress")
+    np.testing.assert_allclose(got["stress"], now, rtol=1e-5, atol=1e-6 * np.abs(now).max())
+    np.testing.assert_allclose(got["pressure"], st.pressure(now), rtol=1e-5, atol=1.0)
+    with pytest.raises(KeyError, match="not a computed point field"):
+        sim.field("damage")

@@ -1,4 +1,5 @@
-"""Post-processing and analysis tools: crack tracking and dispersion relations."""
+"""Post-processing and analysis tools: crack tracking, dispersion relations and the
+J-integral."""
 
 from peridynamics.analysis.anisotropy import DamageAnisotropy, damage_anisotropy
 from peridynamics.analysis.attenuation import corrected_strength, fit_attenuation
@@ -23,6 +24,7 @@ from peridynamics.analysis.dispersion import (
     zero_energy_points_1d,
     zero_group_velocity_points_1d,
 )
+from peridynamics.analysis.j_integral import j_integral
 
 __all__ = [
     "DamageAnisotropy",
@@ -44,6 +46,7 @@ __all__ = [
     "fit_attenuation",
     "fdm_1d",
     "fully_discrete_1d",
+    "j_integral",
     "lattice_family_2d",
     "oscillation_index_2d",
     "semi_discrete_1d",

@@ -29,6 +29,10 @@ __all__ = ["Result"]
 _HEADER = re.compile(r"^(?P<name>.*?) \[(?P<unit>[^\]]*)\]$")
 
 
+#: fields of three components in every dimension (not vectors of the model's dimension)
+_THREE = ("principal_stress", "principal_direction")
+
+
 class Result:
     """A finished (or interrupted) run's outputs, read from its folder.
 
@@ -174,7 +178,8 @@ class Result:
 
         Returns a mapping with ``x`` (n, dim) reference positions (m) and each field the
         frame holds (``displacement`` (n, dim) m, ``velocity`` m/s, ``damage`` (n,),
-        ``force_density`` N/m^3, ... as ``output.fields`` chose), in the precision of
+        ``force_density`` N/m^3, the tensors ``stress`` (n, 3, 3) Pa and ``strain``,
+        ... as ``output.fields`` chose), in the precision of
         ``output.frame_precision`` (float32 by default; :attr:`final` is float64).
         A decomposed run's frame joins its pieces in rank order.
         """
@@ -188,8 +193,10 @@ class Result:
         for name in meshes[0].point_data:
             parts = [np.asarray(m.point_data[name]) for m in meshes]
             arr = np.concatenate(parts)
-            if arr.ndim == 2 and arr.shape[1] == 3 and dim < 3:
+            if arr.ndim == 2 and arr.shape[1] == 3 and dim < 3 and name not in _THREE:
                 arr = arr[:, :dim]
+            elif arr.ndim == 2 and arr.shape[1] == 9:  # a tensor: stress, strain
+                arr = arr.reshape(-1, 3, 3)
             out[name] = arr
         return out
 
