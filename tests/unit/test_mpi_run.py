@@ -133,6 +133,32 @@ def test_two_ranks_lps(tmp_path: Path) -> None:
     assert json.loads((tmp_path / "m" / "summary.json").read_text())["results"]["bonds_broken"] > 0
 
 
+DISC = [
+    str(EXAMPLES / "bodies" / "brazilian_disc.yaml"),
+    "--set", "discretisation.spacing=2.5e-3",
+    "--set", "solver.end_time=2e-4",
+    "--set", "output.plot=none",
+]  # fmt: skip
+
+
+@pytest.mark.mpi
+def test_rigid_platens_on_three_ranks_give_the_serial_run(tmp_path: Path) -> None:
+    """The Brazilian disc between two rigid platens (seated by ``touch``, prescribed
+    motion): every rank holds the platens, each presses its owned points, the reactions
+    are summed over the ranks: the fields are the serial run's bit for bit and the
+    reaction history agrees to round-off."""
+    assert _run(*DISC, "--out", str(tmp_path / "s")).returncode == 0
+    mpi = _run(*DISC, "--out", str(tmp_path / "m"), ranks=3)
+    assert mpi.returncode == 0, mpi.stderr
+    fs, fm = read_final_state(tmp_path / "s"), read_final_state(tmp_path / "m")
+    for k in ("u", "v", "damage", "intact"):
+        np.testing.assert_array_equal(fm[k], fs[k], err_msg=k)
+    assert np.abs(fs["u"]).max() > 0  # the platens pressed the disc
+    rs = json.loads((tmp_path / "s" / "summary.json").read_text())["results"]
+    rm = json.loads((tmp_path / "m" / "summary.json").read_text())["results"]
+    assert _close(rs, rm) == []
+
+
 @pytest.mark.mpi
 def test_a_killed_rank_resumes_to_the_same_result(tmp_path: Path) -> None:
     deck = [a if a != "solver.steps=500" else "solver.steps=300" for a in ROCK]

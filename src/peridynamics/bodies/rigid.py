@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from peridynamics.communicator import active_comm
 from peridynamics.state import State
 
 #: State fields of the rigid bodies: name -> components per body
@@ -148,6 +149,10 @@ class RigidSystem:
             raise ValueError(f"rigid body names must be unique, got {names}")
         self.volume = np.ascontiguousarray(volume, dtype=float)
         self.density = np.ascontiguousarray(density, dtype=float)
+        #: the run's communicator: under MPI the contact acts on this rank's owned
+        #: points and the resultants are summed over the ranks (every rank holds every
+        #: rigid body's few degrees of freedom and moves them alike)
+        self.comm = active_comm()
         self.time_step = 1.0  # set by an explicit solver (the friction law needs it)
         #: translation applied at set-up to bodies with ``touch`` (name -> (dim,) m)
         self.seating: dict[str, list[float]] = {}
@@ -184,9 +189,13 @@ class RigidSystem:
     def add_force(self, state: State, u: NDArray, v: NDArray, x: NDArray, force: NDArray) -> float:
         """ADD the contact force density of every rigid body on the deformable points to
         ``force`` (n, dim); store each body's resultant and torque in the State. Returns
-        the friction power of this evaluation (W, <= 0)."""
+        the friction power of this evaluation (W, <= 0). Under MPI the owned points only:
+        resultants and torques are summed over the ranks, the power is this rank's part
+        (``friction_work`` is a per-rank partial sum)."""
         s = state
-        y = x + u
+        own = self.comm.owned
+        y = (x + u)[own]
+        v, volume, density, force = v[own], self.volume[own], self.density[own], force[own]
         d = x.shape[1]
         power = 0.0
         for k, b in enumerate(self.bodies):
@@ -195,12 +204,13 @@ class RigidSystem:
             c = b.center[:d] + s["rigid_position"][k, :d]
             omega = b.omega(rot3, s["rigid_momentum"][k])
             f_body, torque, p, _ = b.contact.evaluate(
-                y, v, self.volume, self.density, np.ascontiguousarray(rot), c,
+                y, v, volume, density, np.ascontiguousarray(rot), c,
                 s["rigid_velocity"][k, :d], omega, self.time_step, force,
             )  # fmt: skip
+            total = self.comm.sum_array(np.concatenate([f_body, torque]))
             s["rigid_force"][k] = 0.0
-            s["rigid_force"][k, :d] = f_body
-            s["rigid_torque"][k] = torque
+            s["rigid_force"][k, :d] = total[:d]
+            s["rigid_torque"][k] = total[d:]
             power += p
         return power
 

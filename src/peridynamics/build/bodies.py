@@ -25,6 +25,7 @@ from peridynamics.bodies.composite import (
     sub_cloud,
 )
 from peridynamics.bodies.rigid import RigidBody, RigidSystem
+from peridynamics.communicator import active_comm
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.build.errors import SetupError
 from peridynamics.build.geometry import geometry_cloud
@@ -186,6 +187,25 @@ def point_mass_properties(
     return c, mass, inertia
 
 
+def attach_rigid_bodies(deck: dk.Deck, cloud: PointCloud, model: Any, bonds: Any) -> None:
+    """Give ``model`` the deck's rigid bodies (``model.rigid``), if it has any; they move
+    in explicit dynamics only (SetupError naming ``rigid_bodies`` otherwise)."""
+    if not deck.rigid_bodies:
+        return
+    s = deck.solver
+    if not isinstance(s, dk.Solver) or s.hybrid is not None or s.method == "fdm":
+        raise SetupError(
+            "rigid_bodies",
+            "rigid bodies move in explicit dynamics (solver.type explicit, no "
+            "hybrid or fdm method); for a quasi-static test load slowly with "
+            "solver.damping",
+        )
+    c0 = model.material.micromodulus_constant(
+        cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
+    )
+    model.rigid = build_rigid_system(deck, cloud, model.density, c0, bonds.horizon)
+
+
 def build_rigid_system(
     deck: dk.Deck, cloud: PointCloud, density: NDArray[np.float64], c0: float, horizon: float
 ) -> RigidSystem | None:
@@ -282,11 +302,14 @@ def touching_shift(
     nearest point of ``x`` is exactly at the contact radius (bisection on s to 1e-12 of
     the model size). Raises when the body never meets the points along that line."""
 
+    comm = active_comm()  # under MPI: x are a rank's points, the minimum the body's
+
     def gap(s: float) -> float:
         phi, _ = shape.evaluate(x - s * direction)
-        return float(phi.min()) - radius
+        return comm.min(float(phi.min()) if phi.size else np.inf) - radius
 
-    span = float(np.ptp(x, axis=0).max())
+    span = max(comm.max(float(hi)) + comm.max(-float(lo)) for lo, hi in zip(
+        x.min(axis=0), x.max(axis=0), strict=True))  # fmt: skip
     lo = 0.0
     if gap(0.0) <= 0:  # already overlapping: back off first
         while gap(lo) <= 0 and lo > -4.0 * span:

@@ -16,7 +16,7 @@ from typing import Any
 
 from peridynamics import deck as dk
 from peridynamics.bonds.partial_volume import search_radius
-from peridynamics.build.bodies import has_bodies
+from peridynamics.build.bodies import attach_rigid_bodies, has_bodies
 from peridynamics.build.cloud import build_bonds_for, build_cloud
 from peridynamics.build.errors import SetupError
 from peridynamics.build.loads import build_conditions
@@ -48,8 +48,6 @@ def _refuse(deck: dk.Deck, size: int) -> None:
         raise SetupError(key, f"hybrid and finite-difference runs are 1-D and serial; {how}")
     if has_bodies(deck):
         raise SetupError("bodies", f"several bodies are not distributed yet; {how}")
-    if deck.rigid_bodies:
-        raise SetupError("rigid_bodies", f"rigid bodies are not distributed yet; {how}")
     if deck.material.model == "micropolar":
         raise SetupError("material.model", f"micropolar runs are not distributed; {how}")
 
@@ -105,6 +103,7 @@ def _build_windowed(deck: dk.Deck, comm: Any, lattice: Lattice) -> dict[str, Any
         bonds = build_bonds_for(deck, cloud, (meta.lo, meta.hi))
         bonds = own_families(bonds, cloud, part.n_family)
         model = build_model(deck, cloud, bonds, body)
+        attach_rigid_bodies(deck, cloud, model, bonds)
         solver = build_solver(deck, cloud, model, body, kin, init)
     return {
         "cloud": cloud,
@@ -146,6 +145,7 @@ def _build_replicated(deck: dk.Deck, comm: Any) -> dict[str, Any]:
     with using(mpi):
         bonds = own_families(build_bonds_for(deck, cloud, global_cloud.bounds), cloud, n_family)
         model = build_model(deck, cloud, bonds, body)
+        attach_rigid_bodies(deck, cloud, model, bonds)
         solver = build_solver(deck, cloud, model, body, kin, init)
     return {
         "cloud": cloud,

@@ -18,7 +18,7 @@ from peridynamics import deck as dk
 from peridynamics.build.bodies import (
     body_layout,
     build_bodies_model,
-    build_rigid_system,
+    attach_rigid_bodies,
     has_bodies,
 )
 from peridynamics.build.cloud import build_bonds_for, build_cloud
@@ -82,18 +82,7 @@ class SimulationSetup:
             model = build_bodies_model(deck, cloud, bonds, layout, body, contact)
         else:
             model = build_model(deck, cloud, bonds, body)
-        if deck.rigid_bodies:
-            if not isinstance(s, dk.Solver) or s.hybrid is not None or s.method == "fdm":
-                raise SetupError(
-                    "rigid_bodies",
-                    "rigid bodies move in explicit dynamics (solver.type explicit, no "
-                    "hybrid or fdm method); for a quasi-static test load slowly with "
-                    "solver.damping",
-                )
-            c0 = model.material.micromodulus_constant(
-                cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
-            )
-            model.rigid = build_rigid_system(deck, cloud, model.density, c0, bonds.horizon)
+        attach_rigid_bodies(deck, cloud, model, bonds)
         solver = build_solver(deck, cloud, model, body, kin, init)
         return cls(deck, cloud, model, solver, setup_s=time.perf_counter() - t0)
 

@@ -16,8 +16,9 @@ looked up by the key ``(global i) * n_points + (global j)`` in the sorted keys o
 old owned bonds (``np.searchsorted``; no loop over points or bonds). The kind of every
 field comes from the State's registry below and the force model's
 :meth:`~peridynamics.families.base.ForceModel.state_fields` (``FieldSpec.where``); a
-field of any other kind (the interface bonds of several bodies, rigid bodies) cannot be
-repartitioned and is refused (:func:`field_kinds`).
+field of any other kind (the interface bonds of several bodies) cannot be repartitioned
+and is refused (:func:`field_kinds`); the rigid bodies' fields, the same on every rank,
+are taken from any old rank.
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from peridynamics.bodies.rigid import RIGID_FIELDS
 from peridynamics.io.checkpoint import Checkpoint
 from peridynamics.parallel.decompose import find_sorted
 from peridynamics.state import State
@@ -107,11 +109,13 @@ def needed_ranks(x: NDArray[np.float64], boxes: list[Any], root: bool) -> list[i
 
 def field_kinds(model: Any, state: State) -> tuple[dict[str, str], list[str]]:
     """The kind of every field of ``state`` (a new State of ``model``): ``"point"``,
-    ``"bond"`` or ``"sum"``, and the names of the fields that cannot be repartitioned
-    (other kinds: interface bonds, rigid-body fields), with their kind."""
+    ``"bond"``, ``"sum"`` or ``"replicated"`` (the rigid bodies' fields, the same on
+    every rank), and the names of the fields that cannot be repartitioned (other kinds:
+    interface bonds), with their kind."""
     kinds = {name: "point" for name in POINT_FIELDS}
     kinds.update({name: "bond" for name in BOND_FIELDS})
     kinds.update({name: "sum" for name in SUMMED_FIELDS})
+    kinds.update({name: "replicated" for name in RIGID_FIELDS})
     fm = model.force_model
     for dof in fm.dofs()[1:]:  # rotations and moments of a micropolar model
         kinds.update({n: "point" for n in (dof.value, dof.rate, dof.force, dof.body)})
@@ -123,7 +127,9 @@ def field_kinds(model: Any, state: State) -> tuple[dict[str, str], list[str]]:
     for name, a in state.fields.items():
         kind = kinds.get(name, "unknown")
         rows = {"point": n_local, "bond": n_bonds}.get(kind)
-        if kind not in ("point", "bond", "sum") or (rows is not None and len(a) != rows):
+        if kind not in ("point", "bond", "sum", "replicated") or (
+            rows is not None and len(a) != rows
+        ):
             refused.append(f"{name} ({kind})")
         else:
             known[name] = kind
@@ -200,7 +206,9 @@ def rebuild_state(
         "bond": _lookup([g[1] for g in got], bond_keys, "bonds"),
     }
     for name, kind in kinds.items():
-        if kind == "sum":
+        if kind == "replicated":  # any old rank holds them alike
+            template[name][...] = old[ranks[0]].state.fields[name]
+        if kind in ("sum", "replicated"):
             continue
         src, row = where[kind]
         out = template[name]

@@ -27,8 +27,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from peridynamics.bodies.rigid import RIGID_FIELDS
 from peridynamics.communicator import SERIAL
 from peridynamics.geometry.cloud import PointCloud
+from peridynamics.parallel.decompose import find_sorted
 from peridynamics.parallel.global_cloud import CloudMeta, GlobalCloud
 from peridynamics.parallel.mpi import MPICommunicator
 from peridynamics.state import State
@@ -81,6 +83,10 @@ class Session:
             "attr": self._attr,
             "cloud_field": lambda name: self._to_root(getattr(self.model.cloud, name)),
             "node_set": self._node_set,
+            "rows": self._rows,
+            "max_damage": lambda: self.comm.max(
+                float(self.local_damage()[: self.comm.n_owned].max(initial=0.0))
+            ),
             "call": self._callable,
         }
         #: what requests keep between steps (the crack meter of the crack outputs)
@@ -174,6 +180,31 @@ class Session:
             return exc
         return self._to_root(np.asarray(value))
 
+    def _rows(self, what: str, ids: NDArray[np.int64]) -> NDArray | None:
+        """The rows of the points ``ids`` (global, sorted) of a per-point quantity
+        (:meth:`peridynamics.io.observers.base.RunContext.rows`), each from its owner, on
+        rank 0 in the order of ``ids``."""
+        m, s, n = self.model, self._local(), self.comm.n_owned
+        owned = np.asarray(m.cloud.global_ids)[:n]
+        pos, hit = find_sorted(owned, ids)
+        local = pos[hit]
+        if what == "damage":
+            values = self.local_damage()[local]
+        elif what == "volume":
+            values = np.asarray(m.cloud.volume)[local]
+        elif what == "max_stretch":
+            values = np.asarray(m.largest_stretch(s))[local]
+        else:
+            values = np.asarray(s[what])[local]
+        parts = self.comm.gather_root((ids[hit], values))
+        if parts is None:
+            return None
+        got = np.concatenate([p[0] for p in parts])
+        rows = np.concatenate([p[1] for p in parts])
+        out = np.empty_like(rows)
+        out[np.searchsorted(ids, got)] = rows
+        return out
+
     def _node_set(self, name: str) -> NDArray[np.intp] | None:
         """The global ids of a node set's owned members of every rank, sorted, on rank 0."""
         cloud = self.model.cloud
@@ -209,6 +240,8 @@ class _LazyFields(dict):  # type: ignore[type-arg]
             raise KeyError(name)
         if name in BOND_FIELDS:
             value: Any = BondFlags(name)
+        elif name in RIGID_FIELDS:  # every rank holds every rigid body alike
+            value = self._local[name]
         elif name == "friction_work":
             value = np.array([self._session.call("call", _friction_sum)])
         else:

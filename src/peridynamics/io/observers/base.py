@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
+import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.io.checkpoint import write_checkpoint
@@ -129,6 +130,27 @@ class RunContext:
                 got = self.model.point_damage(s.intact, s.fields.get("interface_intact"))
             self.damage_cache[s.step] = got
         return got
+
+    def rows(self, s: State, what: str, nodes: NDArray[np.intp]) -> NDArray:
+        """The rows ``nodes`` (sorted point ids) of a per-point quantity of ``s``: a
+        State field (``u``, ``force``, ``theta`` ...), ``damage``, ``volume`` (m^3) or
+        ``max_stretch``. Under MPI only those rows reach rank 0 (the session's ``rows``
+        request), not the whole field."""
+        if self.session is not None:
+            return self.session.call("rows", what, np.asarray(nodes, dtype=np.int64))
+        if what == "damage":
+            return self.damage(s)[nodes]
+        if what == "volume":
+            return self.model.cloud.volume[nodes]
+        if what == "max_stretch":
+            return self.model.largest_stretch(s)[nodes]
+        return s[what][nodes]
+
+    def max_damage(self, s: State) -> float:
+        """The largest point damage of ``s`` (a reduction over the ranks under MPI)."""
+        if self.session is not None:
+            return float(self.session.call("max_damage"))
+        return float(self.damage(s).max())
 
 
 class Observer:

@@ -61,8 +61,9 @@ class History(Observer):
         names = [] if rigid is None else [b.name for b in rigid.bodies]
         return names.index(name)
 
-    def probe_value(self, probe: Probe, s: State, damage: NDArray) -> float:
-        """One number for a probe at the current state."""
+    def probe_value(self, ctx: RunContext, probe: Probe, s: State) -> float:
+        """One number for a probe at the current state (from the rows of its node set:
+        under MPI only those reach rank 0)."""
         m = self.model
         q = probe.quantity
         if q in ("difference", "sum"):  # of probes recorded before this one, this record
@@ -74,7 +75,7 @@ class History(Observer):
             return m.section_stress(s.u, s.intact, probe.position)
         nodes = m.cloud.node_set(probe.set)
         if q in ("damage", "max_stretch"):
-            vals = damage[nodes] if q == "damage" else m.largest_stretch(s)[nodes]
+            vals = ctx.rows(s, q, nodes)
             return _reduce(vals, probe.reduce or "max", m.comm)
         if q == "reaction_force":
             if probe.body is not None:  # the contact force on a rigid body (N)
@@ -84,7 +85,7 @@ class History(Observer):
                     if probe.component == "magnitude"
                     else vec[COMP[probe.component]]
                 )
-            f = -s.force[nodes] * m.cloud.volume[nodes, None]
+            f = -ctx.rows(s, "force", nodes) * ctx.rows(s, "volume", nodes)[:, None]
             vec = m.comm.sum_array(f.sum(axis=0))
             return float(
                 np.linalg.norm(vec)
@@ -94,9 +95,11 @@ class History(Observer):
         if q in ("rotation", "moment"):
             if "theta" not in s:
                 raise ValueError(f"probe {probe.name!r}: {q} needs material.model micropolar")
-            field = s["theta"] if q == "rotation" else s["moment"]
-            return _reduce(field[nodes, 0], probe.reduce or "mean", m.comm)
-        arr = {"displacement": s.u, "velocity": s.v, "force_density": s.force}[q][nodes]
+            field = ctx.rows(s, "theta" if q == "rotation" else "moment", nodes)
+            return _reduce(field[:, 0], probe.reduce or "mean", m.comm)
+        arr = ctx.rows(
+            s, {"displacement": "u", "velocity": "v", "force_density": "force"}[q], nodes
+        )
         vals = (
             np.linalg.norm(arr, axis=1)
             if probe.component == "magnitude"
@@ -107,19 +110,18 @@ class History(Observer):
     def record(self, ctx: RunContext, s: State) -> None:
         """Append one record."""
         m, r = self.model, ctx.records
-        damage = ctx.damage(s)
         r["time_s"].append(s.t)
         kinetic, strain = ctx.energies(s)
         r["kinetic_energy_J"].append(kinetic)
         r["strain_energy_J"].append(strain)
-        r["max_damage"].append(m.comm.max(float(damage.max())))
+        r["max_damage"].append(m.comm.max(ctx.max_damage(s)))
         # specimen damage factor (PD zero-energy modes (n.d.), eq. 13): bonds broken in
         # the run / all bonds (pre-cracked bonds count as neither failed nor intact)
         failed, total = m.bond_counts(s)
         r.setdefault("damage_factor", []).append(failed / max(total, 1.0))
         self._last: dict[str, float] = {}
         for p in self.run.output.probes:
-            value = self.probe_value(p, s, damage)
+            value = self.probe_value(ctx, p, s)
             self._last[p.name] = value
             r["probes"][p.name].append(value)
         ss = self.run.output.stress_strain
@@ -132,15 +134,16 @@ class History(Observer):
                 travel = s["rigid_position"][k, : m.dim]
             else:
                 nodes = m.cloud.node_set(str(ss.set))
-                push = (s.force[nodes] * m.cloud.volume[nodes, None]).sum(axis=0)
-                travel = s.u[nodes].mean(axis=0)
+                volume = ctx.rows(s, "volume", nodes)[:, None]
+                push = (ctx.rows(s, "force", nodes) * volume).sum(axis=0)
+                travel = ctx.rows(s, "u", nodes).mean(axis=0)
             r.setdefault("stress_Pa", []).append(float(-np.sum(push * d) / ss.area))
             r.setdefault("strain", []).append(float(np.sum(travel * d) / ss.length))
         if self._tip is not None:
             origin, direction, thr = self._tip
             pre_damaged = ctx.initial_damage() >= thr  # points a pre-crack damages at t = 0
-            r["crack_tip_m"].append(
-                crack_tip(m.cloud.x, damage, origin, direction, thr, pre_damaged)
+            r["crack_tip_m"].append(  # the whole damage field (gathered under MPI)
+                crack_tip(m.cloud.x, ctx.damage(s), origin, direction, thr, pre_damaged)
             )
 
     def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
