@@ -75,3 +75,53 @@ def test_uniform_field_has_no_j_and_a_contour_outside_the_body_is_refused() -> N
     assert abs(j_integral(x, grad, sig, (0.0, 0.0), (0.01, 0.01), DX)) < 1e-9 * 7e6 * 1e-4 * 0.01
     with pytest.raises(ValueError, match="leaves the body"):
         j_integral(x, grad, sig, (0.0, 0.0), (0.05, 0.01), DX)
+
+
+def _centre_cracked_plate(family: str, a: float) -> dict:
+    """80 x 160 mm plane-stress plate, dx 1 mm, delta 3.015 dx, a centre crack of length
+    2a along y = 80 mm, 10 MPa on the top and bottom edges, pins against rigid motion;
+    static solver."""
+    w, h = 0.08, 0.16
+    mat: dict = {"model": family, "youngs_modulus": E, "poisson_ratio": NU, "density": 2700.0}
+    if family == "lps":
+        mat["influence"] = "constant"
+    return {
+        "name": f"ccp_{family}",
+        "geometry": {"type": "rectangle", "size": [w, h], "thickness": 1e-3, "plane": "stress"},
+        "discretisation": {"spacing": DX, "horizon_factor": 3.015},
+        "material": mat,
+        "damage": {"model": "none"},
+        "precracks": [{"points": [[w / 2 - a, h / 2], [w / 2 + a, h / 2]]}],
+        "node_sets": {"top": {"edge": {"normal": [0.0, 1.0]}},
+                      "bottom": {"edge": {"normal": [0.0, -1.0]}},
+                      "pb": {"point": [w / 2, 0.0]}, "pt": {"point": [w / 2, h]}},
+        "boundary_conditions": [
+            {"type": "traction", "set": "top", "value": [0.0, 10e6]},
+            {"type": "traction", "set": "bottom", "value": [0.0, -10e6]},
+            {"type": "fixed", "set": "pb", "components": ["x", "y"]},
+            {"type": "fixed", "set": "pt", "components": ["x"]}],
+        "solver": {"type": "static", "load_steps": 1, "tolerance": 1e-9},
+        "output": {"fields": ["displacement"], "plot": "none"},
+    }  # fmt: skip
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("family", ["lps"])
+@pytest.mark.parametrize("a", [0.012, 0.02])
+def test_centre_cracked_plate_j_against_k_squared_over_e(family: str, a: float, tmp_path) -> None:
+    """Measured (LPS) J / (K^2/E) = 1.029-1.030 at 2a/W = 0.3 and 1.027-1.033 at 0.5 on
+    contours of 8 x 8 to 16 x 20 mm (half sizes), both tips; K = sigma sqrt(pi a)
+    sqrt(sec(pi a / W)) (Feddersen's finite-width correction)."""
+    import peridynamics as pd
+    from peridynamics.evaluation import stress as st
+
+    sim = pd.Simulation(_centre_cracked_plate(family, a), out=tmp_path)
+    sim.run()
+    model, state = sim.model, sim.state
+    sigma = st.point_stress(model, state)[:, :2, :2]
+    grad = st.displacement_gradient(model, state)
+    k_ref = 10e6 * np.sqrt(np.pi * a / np.cos(np.pi * a / 0.08))
+    for tip, d in (((0.04 + a, 0.08), (1.0, 0.0)), ((0.04 - a, 0.08), (-1.0, 0.0))):
+        for half in ((8e-3, 8e-3), (10e-3, 10e-3)):
+            j = j_integral(model.cloud.x, grad, sigma, tip, half, DX, direction=d)
+            assert j / (k_ref**2 / E) == pytest.approx(1.0, abs=0.05)
