@@ -167,7 +167,7 @@ def build_checked(deck: Any, comm: Any, allow_large: bool) -> tuple[Any, str | N
 
         share = node_ranks(comm) / comm.Get_size()
     problem = size_problem(deck, allow_large, share=share)
-    if problem is None and deck.geometry.type == "mesh":
+    if problem is None and deck.geometry.type in ("mesh", "gmsh"):
         problem = size_problem(deck, allow_large, build_cloud(deck).n_points, share)
     if problem:
         return None, problem

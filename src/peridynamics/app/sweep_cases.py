@@ -316,16 +316,17 @@ def build_cases(
 
 
 def fingerprint(deck: Any) -> str:
-    """Hash of the validated deck (every default filled in), the package version and a
-    mesh file: what ``Simulation.fingerprint`` hashes for a checkpoint."""
+    """Hash of the validated deck (every default filled in), the package version and the
+    file of a geometry read from one: what ``Simulation.fingerprint`` hashes for a
+    checkpoint."""
     from peridynamics import __version__
-    from peridynamics.deck import MeshGeometry
 
     text = json.dumps(deck.model_dump(mode="json", by_alias=True), sort_keys=True)
     h = hashlib.sha256(text.encode())
     h.update(__version__.encode())
-    if isinstance(deck.geometry, MeshGeometry):
-        h.update(Path(deck.geometry.file).read_bytes())
+    file = getattr(deck.geometry, "file", None)
+    if file is not None:
+        h.update(Path(file).read_bytes())
     return h.hexdigest()
 
 

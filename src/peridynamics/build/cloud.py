@@ -82,7 +82,18 @@ def build_cloud(deck: dk.Deck) -> PointCloud:
         if "all" in body_sets:
             raise SetupError("bodies", "'all' is built in (every point); rename the body")
     cloud, body_sets = _cut_notches(deck, cloud, body_sets)
-    sets: dict[str, NDArray[np.intp]] = {"all": np.arange(cloud.n_points), **body_sets}
+    clash = sorted(set(deck.node_sets) & set(cloud.node_sets))
+    if clash:
+        raise SetupError(
+            f"node_sets.{clash[0]}",
+            "has the name of a node set of the geometry (a gmsh group, a mesh block or set, "
+            "an image phase); rename it",
+        )
+    sets: dict[str, NDArray[np.intp]] = {
+        **cloud.node_sets,  # a geometry's groups (gmsh, mesh blocks, image phases)
+        "all": np.arange(cloud.n_points),
+        **body_sets,
+    }
     visiting: set[str] = set()
 
     def resolve(name: str) -> NDArray[np.intp]:

@@ -92,13 +92,15 @@ class SimulationSetup:
         return self.solver.total_steps()
 
     def fingerprint(self) -> str:
-        """Hash of the validated deck, the package version and (for mesh geometries) the
-        mesh file: a checkpoint only resumes the same problem with the same code."""
+        """Hash of the validated deck, the package version and (for geometries read from
+        a file: mesh, surface, gmsh, image) that file: a checkpoint only resumes the same
+        problem with the same code."""
         from peridynamics import __version__
 
         text = json.dumps(self.deck.model_dump(mode="json", by_alias=True), sort_keys=True)
         h = hashlib.sha256(text.encode())
         h.update(__version__.encode())
-        if self.deck.geometry.type == "mesh":
-            h.update(Path(self.deck.geometry.file).read_bytes())
+        file = getattr(self.deck.geometry, "file", None)
+        if file is not None:
+            h.update(Path(file).read_bytes())
         return h.hexdigest()

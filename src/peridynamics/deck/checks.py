@@ -25,8 +25,7 @@ def cross_check(deck: Deck) -> Errors:
     against the damage law and the solver, outputs, bodies, derived quantities."""
     sets = node_set_names(deck) | geometry_set_names(deck.geometry)
     errors: Errors = []
-    # node_sets build on each other before the geometry's sets join them: not named there
-    errors += node_set_errors(deck, node_set_names(deck))
+    errors += node_set_errors(deck, sets)
     errors += hole_errors(deck)
     errors += deck.material.deck_errors(deck)
     errors += no_fail_errors(deck, sets)
