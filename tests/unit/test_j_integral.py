@@ -105,13 +105,18 @@ def _centre_cracked_plate(family: str, a: float) -> dict:
     }  # fmt: skip
 
 
+#: measured J / (K^2/E) on contours of 8 x 8 to 16 x 20 mm (half sizes), both tips:
+#: LPS 1.0294-1.0299 (2a/W = 0.3), 1.0275-1.0332 (0.5); correspondence 1.0497-1.0501,
+#: 1.0424-1.0437 (docs/stress.md)
+_J_TOL = {"lps": 0.04, "correspondence": 0.06}
+
+
 @pytest.mark.slow
-@pytest.mark.parametrize("family", ["lps"])
+@pytest.mark.parametrize("family", ["lps", "correspondence"])
 @pytest.mark.parametrize("a", [0.012, 0.02])
 def test_centre_cracked_plate_j_against_k_squared_over_e(family: str, a: float, tmp_path) -> None:
-    """Measured (LPS) J / (K^2/E) = 1.029-1.030 at 2a/W = 0.3 and 1.027-1.033 at 0.5 on
-    contours of 8 x 8 to 16 x 20 mm (half sizes), both tips; K = sigma sqrt(pi a)
-    sqrt(sec(pi a / W)) (Feddersen's finite-width correction)."""
+    """J of both tips against K^2/E, K = sigma sqrt(pi a) sqrt(sec(pi a / W))
+    (Feddersen's finite-width correction)."""
     import peridynamics as pd
     from peridynamics.evaluation import stress as st
 
@@ -124,4 +129,4 @@ def test_centre_cracked_plate_j_against_k_squared_over_e(family: str, a: float, 
     for tip, d in (((0.04 + a, 0.08), (1.0, 0.0)), ((0.04 - a, 0.08), (-1.0, 0.0))):
         for half in ((8e-3, 8e-3), (10e-3, 10e-3)):
             j = j_integral(model.cloud.x, grad, sigma, tip, half, DX, direction=d)
-            assert j / (k_ref**2 / E) == pytest.approx(1.0, abs=0.05)
+            assert j / (k_ref**2 / E) == pytest.approx(1.0, abs=_J_TOL[family])
