@@ -811,6 +811,8 @@ class CostParams:
     ghost_bytes: float = 200.0  # bytes per ghost point (without bonds)
     bond_bytes: float = 14.0  # bytes per directed bond held
     global_bytes: float = 0.0  # bytes per global point on every rank; 0 = 8 * dim + 20
+    set_up: str = "windowed"  # windowed (0.4.0: no global cloud) or replicated (0.3.0)
+    requests: int = 5  # windowed: small gathers and reductions per observation
 
 
 def global_point_bytes(cp: CostParams, dim: int) -> float:
@@ -830,6 +832,43 @@ def global_point_bytes(cp: CostParams, dim: int) -> float:
         (partition, int32) + 8 (gather order, int64).
     """
     return cp.global_bytes or 8.0 * dim + 8.0 + 4.0 + 8.0
+
+
+def largest_model(
+    row: dict[str, Any], cp: CostParams, args: argparse.Namespace, dim: int
+) -> dict[str, float]:
+    """The most points that fit ``args.nodes`` nodes of ``args.node_gib`` GiB, one rank
+    per node: each node holds its share of the points (``--peak-bytes-per-point``, the
+    measured serial peak, or the model's owned + ghost bytes per owned point of ``row``)
+    plus the replicated part (the global cloud when replicated; the slab and block
+    arrays, a few MB, when windowed).
+    """
+    per_point = args.peak_bytes_per_point or (
+        (row["owned_memory_bytes"] + row["ghost_memory_bytes"]) / row["owned"]
+    )
+    node = args.node_gib * 2.0**30
+    nodes = float(args.nodes)
+    if cp.set_up == "replicated":  # node >= N per_point / nodes + N global_bytes
+        points = node / (per_point / nodes + global_point_bytes(cp, dim))
+    else:  # the slab and block arrays: 8 B per slab (N^(1/dim)), 12 B per block
+        points = (node - 12.0 * 512.0 * nodes) / (per_point / nodes)
+        points -= 8.0 * points ** (1.0 / dim) * nodes / per_point
+    return {"points": float(points), "bytes_per_point": float(per_point)}
+
+
+def replicated_bytes(cp: CostParams, dec: Decomposition) -> float:
+    """Bytes every rank holds whatever its share.
+
+    ``replicated`` (0.3.0): the global cloud, :func:`global_point_bytes` per point of the
+    whole body. ``windowed`` (0.4.0, :mod:`peridynamics.parallel.windowed`): the first
+    global id of every slab of the first grid axis (8 B each) and the count and owner of
+    every partition block (12 B each, 512 blocks per rank, at most one per cell).
+    """
+    points = float(np.prod(dec.shape, dtype=np.float64))
+    if cp.set_up == "replicated":
+        return points * global_point_bytes(cp, len(dec.shape))
+    blocks = min(512.0 * dec.owned.size, points)
+    return 8.0 * dec.shape[0] + 12.0 * blocks
 
 
 def step_times(dec: Decomposition, cp: CostParams) -> dict[str, np.ndarray]:
@@ -861,9 +900,13 @@ def step_times(dec: Decomposition, cp: CostParams) -> dict[str, np.ndarray]:
     allreduce = np.full(ranks, cp.allreduces * one)
     total = compute + halo + allreduce
     gather = 0.0
-    if ranks > 1 and cp.history_every > 0:
+    if ranks > 1 and cp.history_every > 0 and cp.set_up == "replicated":
         received = float(dec.owned.sum() - dec.owned[0]) * 8.0 * (cp.observe_floats or dim)
         gather = ((ranks - 1) * cp.latency + received / cp.bandwidth) / cp.history_every
+    elif ranks > 1 and cp.history_every > 0:  # reductions and node-set rows: latency-bound
+        received = float(dec.owned.sum() - dec.owned[0]) * 8.0 * cp.observe_floats
+        tree = cp.requests * np.ceil(np.log2(ranks)) * cp.latency
+        gather = (tree + received / cp.bandwidth) / cp.history_every
     return {
         "compute": compute,
         "halo": halo,
@@ -901,7 +944,7 @@ def summarize(dec: Decomposition, cp: CostParams, t1: float | None) -> dict[str,
     mem_owned = dec.owned * cp.point_bytes + dec.bonds * cp.bond_bytes
     mem_ghost = dec.ghosts * cp.ghost_bytes + dec.first_bonds * cp.bond_bytes
     gbytes = global_point_bytes(cp, dim)
-    mem_global = points * gbytes
+    mem_global = replicated_bytes(cp, dec)
     computed = dec.bonds + dec.first_bonds
     base = t1 if t1 is not None else tot
 
@@ -942,7 +985,9 @@ def summarize(dec: Decomposition, cp: CostParams, t1: float | None) -> dict[str,
         "global_cloud_bytes": float(mem_global),
         "global_memory_ratio": float(mem_global / mem_owned[r]),
         "global_points_at_bond_parity": float(dec.bonds[r] * cp.bond_bytes / gbytes),
-        "rank0_gather_bytes": float(points * 8.0 * (cp.observe_floats or dim)),
+        "rank0_gather_bytes": float(
+            points * 8.0 * (cp.observe_floats or (dim if cp.set_up == "replicated" else 0))
+        ),
         "spread": {
             "owned": spread(dec.owned),
             "ghosts": spread(dec.ghosts),
@@ -974,7 +1019,7 @@ def markdown_table(rows: list[dict[str, Any]]) -> str:
     head = (
         "| P | global grid | owned | ghosts | 1st layer | ghost/owned | nbrs | MB/step "
         "| bonds/pt | redundant | t_step (ms) | comm share | efficiency t(1)/t(P) "
-        "| comm eff | gather u (ms/step) | ghost memory | global cloud (MB/rank) |\n"
+        "| comm eff | gather (ms/step) | ghost memory | replicated (MB/rank) |\n"
         "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
     )
     lines = [head]
@@ -1075,6 +1120,21 @@ def build_parser() -> argparse.ArgumentParser:
         default=0.0,
         help="bytes per global point on every rank (0: 8*dim + 20)",
     )
+    ap.add_argument(
+        "--set-up",
+        choices=("windowed", "replicated"),
+        default="windowed",
+        help="windowed: no rank holds the global cloud, histories reduce (0.4.0); "
+        "replicated: every rank holds it, rank 0 gathers u per record (0.3.0)",
+    )
+    ap.add_argument("--node-gib", type=float, default=256.0, help="memory per node (GiB)")
+    ap.add_argument("--nodes", type=int, default=1024, help="nodes for the largest model")
+    ap.add_argument(
+        "--peak-bytes-per-point",
+        type=float,
+        default=0.0,
+        help="measured serial peak per point (0: the model's owned + ghost bytes)",
+    )
     ap.add_argument("--json", type=Path, default=None, help="write the results here")
     ap.add_argument(
         "--check",
@@ -1146,6 +1206,7 @@ def main(argv: list[str] | None = None) -> int:
         ghost_bytes=args.ghost_bytes,
         bond_bytes=args.bond_bytes,
         global_bytes=args.global_bytes,
+        set_up=args.set_up,
     )
     design = {
         "horizon": args.horizon,
@@ -1187,21 +1248,27 @@ def main(argv: list[str] | None = None) -> int:
             f"bandwidth {cp.bandwidth:g} B/s, {floats} float64 per ghost per step in "
             f"{cp.fields + (1 if cp.prepass_floats else 0)} exchange(s), "
             f"{cp.allreduces} allreduce(s) of {cp.allreduce_scalars} float64 per step, "
-            f"gather of u every {cp.history_every} steps; row = the rank with the longest "
-            f"step\n"
+            f"{'gather of u' if cp.set_up == 'replicated' else 'reductions'} every "
+            f"{cp.history_every} steps; row = the rank with the longest step\n"
         )
         print(markdown_table(rows))
         print(
-            f"\nAt P = {last['ranks']}: efficiency with the gather of u "
+            f"\nAt P = {last['ranks']}: efficiency with the observations "
             f"{100 * last['efficiency_with_gather']:.2f} %; rank 0 receives "
             f"{last['rank0_gather_bytes'] / 1e9:.2f} GB per observation; every rank holds "
-            f"{last['global_cloud_bytes'] / 1e9:.2f} GB of global cloud "
-            f"({global_point_bytes(cp, dim):g} B per global point), "
-            f"{last['global_memory_ratio']:.1f} x its owned points and bonds "
+            f"{last['global_cloud_bytes'] / 1e9:.4f} GB replicated ({cp.set_up} set-up), "
+            f"{last['global_memory_ratio']:.4f} x its owned points and bonds "
             f"({last['owned_memory_bytes'] / 1e6:,.0f} MB); the global cloud equals the "
             f"rank's own bonds at {last['global_points_at_bond_parity']:.3g} global points "
             f"({time.perf_counter() - t0:.1f} s)\n"
         )
+        fit = largest_model(last, cp, args, dim)
+        print(
+            f"Largest model on {args.nodes} nodes of {args.node_gib:g} GiB (one rank per "
+            f"node, {fit['bytes_per_point']:,.0f} B per owned point with its bonds and "
+            f"ghosts): {fit['points']:.3g} points ({cp.set_up} set-up)\n"
+        )
+        out[f"{dim}d_largest"] = fit
         out[f"{dim}d"] = {"side": side, "rows": rows}
     if args.json is not None:
         args.json.write_text(json.dumps(out, indent=1) + "\n")
