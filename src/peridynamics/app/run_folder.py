@@ -60,6 +60,9 @@ def write_final_pieces(session: Any, out: str) -> None:
         fields["critical_stretch"] = np.asarray(m.point_s0)[:n]
     except AttributeError:
         pass
+    for group in m.force_model.dofs()[1:]:  # micropolar: theta (rad), moment (N m/m^3)
+        fields[group.value] = s[group.value][:n]
+        fields[group.force] = s[group.force][:n]
     gid = np.asarray(m.cloud.global_ids, dtype=np.int64)[:n]
     sizes = np.diff(np.asarray(m.bonds.offsets[: n + 1], dtype=np.int64)).astype(np.int64)
     write_piece(Path(out), comm.rank, gid, sizes, s.intact[: int(m.owned_bonds)], **fields)

@@ -48,8 +48,6 @@ def _refuse(deck: dk.Deck, size: int) -> None:
         raise SetupError(key, f"hybrid and finite-difference runs are 1-D and serial; {how}")
     if has_bodies(deck):
         raise SetupError("bodies", f"several bodies are not distributed yet; {how}")
-    if deck.material.model == "micropolar":
-        raise SetupError("material.model", f"micropolar runs are not distributed; {how}")
 
 
 def ghost_families(deck: dk.Deck, cloud: Any) -> bool:

@@ -278,5 +278,6 @@ class MicropolarForceModel(ForceModel):
             stretch = eps * nvec[:, a] * nvec[:, a]
             gamma = eps * perp[:, a] * nvec[:, a]
             wb = bonds.bond_volume * bonds.bond_length * (k.axial * stretch**2 + k.shear * gamma**2)
-            ratios[a] = w_inf / (0.25 * np.bincount(bonds.bond_i, wb, minlength=n))
+            with np.errstate(divide="ignore"):  # ghosts without a family (MPI): exchanged
+                ratios[a] = w_inf / (0.25 * np.bincount(bonds.bond_i, wb, minlength=n))
         return bond_factors_from_point_ratios(bonds, ratios, active_comm())
