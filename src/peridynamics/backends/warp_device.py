@@ -41,23 +41,31 @@ def require_warp() -> Any:
     return wp
 
 
-def pick_device(requested: str = "auto") -> str:
-    """The Warp device name: ``"cuda:0"`` when CUDA is there (``auto`` or ``cuda``),
-    ``"cpu"`` otherwise; ValueError for ``cuda`` without a CUDA device."""
+def pick_device(requested: str = "auto", rank: int = 0) -> str:
+    """The Warp device name of MPI rank ``rank`` (0 in a serial run).
+
+    ``auto`` takes CUDA when Warp finds a CUDA device, else Warp's ``"cpu"``; ``cuda``
+    insists on CUDA (ValueError without a CUDA device); ``cpu`` is Warp's CPU device.
+    With ``k`` CUDA devices visible, rank r drives ``"cuda:{r % k}"``: one device per
+    rank when the ranks of a node are numbered consecutively and as many as its GPUs
+    (a serial run gets ``"cuda:0"``); a launcher that gives every rank its own GPU
+    (``CUDA_VISIBLE_DEVICES`` per rank) makes ``k`` = 1 and every rank ``"cuda:0"``.
+    """
     w = require_warp()
-    has_cuda = w.get_cuda_device_count() > 0
+    count = int(w.get_cuda_device_count())
+    cuda = f"cuda:{int(rank) % count}" if count > 0 else ""
     if requested == "cpu":
         return "cpu"
     if requested == "cuda":
-        if not has_cuda:
+        if not cuda:
             raise ValueError(
                 "solver.device: cuda, but Warp finds no CUDA device on this machine; use "
                 "solver.device: cpu (Warp's CPU device) or auto"
             )
-        return "cuda:0"
+        return cuda
     if requested != "auto":
         raise ValueError(f"solver.device must be auto, cuda or cpu, got {requested!r}")
-    return "cuda:0" if has_cuda else "cpu"
+    return cuda or "cpu"
 
 
 def to_device(host: NDArray, device: str) -> Any:
@@ -77,7 +85,8 @@ class DeviceModel:
     device : str
         The Warp device.
     n, dim : int
-        Points (rows of the State, ghosts none: the backend is serial) and dimension.
+        Points (rows of the State: in a decomposed run this rank's owned points and
+        ghosts) and dimension.
     x : wp.array2d(float64) (n, dim), reference positions (m).
     offsets : wp.array(int64) (n + 1,), CSR offsets of the families.
     bond_j : wp.array(int32) (n_bonds,), the other end of each directed bond.

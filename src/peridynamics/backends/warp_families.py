@@ -5,6 +5,8 @@ and correspondence in their modules) and the extras (contact, mass damping, visc
 in the order of :meth:`peridynamics.evaluation.evaluator.Evaluator.evaluate`; :func:`unsupported`
 names the
 deck key of anything the backend does not run (the run is refused before it starts).
+Under ``mpiexec`` every rank runs these terms on its part of the body
+(:mod:`peridynamics.backends.warp_halo`).
 """
 
 from __future__ import annotations
@@ -111,8 +113,6 @@ def unsupported(model: Any, integrator: str = "velocity_verlet") -> tuple[str, s
     from peridynamics.families.pmb.force import PMBForceModel
 
     fm = model.force_model
-    if model.comm.size > 1:
-        return "solver.backend", "the Warp backend runs in one process (not under mpiexec)"
     if isinstance(fm, CompositeForceModel):
         return "bodies", "several bodies are not on the Warp backend"
     if model.rigid is not None:

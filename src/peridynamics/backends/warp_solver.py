@@ -13,6 +13,12 @@ first unsound point).
 
 The set-up (bond list, stiffness, surface correction, first force evaluation) is the
 host's; the state at t = 0 is uploaded once.
+
+Under ``mpiexec -n N`` every rank steps its part of the body on its own device
+(:func:`~peridynamics.backends.warp_device.pick_device`: rank r takes CUDA device
+r mod the devices it sees), the ghost rows of u and v are exchanged before each force
+evaluation (:class:`~peridynamics.backends.warp_halo.DeviceHalo`) and the reductions
+count the owned points and bonds only (:mod:`peridynamics.backends.warp_halo`).
 """
 
 from __future__ import annotations
@@ -32,6 +38,13 @@ from peridynamics.backends.warp_device import (
     to_device,
 )
 from peridynamics.backends.warp_families import device_terms
+from peridynamics.backends.warp_halo import (
+    decomposed,
+    devices_per_rank,
+    halo_for,
+    mean_shift,
+    owned_rows,
+)
 from peridynamics.backends.warp_mirror import MirrorFields
 from peridynamics.loading.conditions import (
     Fixed,
@@ -56,7 +69,8 @@ class WarpExplicitSolver(ExplicitSolver):
     Parameters
     ----------
     device : {"auto", "cuda", "cpu"}
-        Warp's CUDA device when there is one (``auto``), else its CPU device.
+        Warp's CUDA device when there is one (``auto``), else its CPU device; under MPI
+        rank r takes CUDA device r mod the number of CUDA devices it sees.
     Other parameters: :class:`~peridynamics.solvers.explicit.ExplicitSolver`.
     """
 
@@ -64,9 +78,14 @@ class WarpExplicitSolver(ExplicitSolver):
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        self.device_name = pick_device(self.device)
+        comm = self.model.comm
+        self.device_name = pick_device(self.device, comm.rank)
+        #: the device of every rank (a decomposed run), in rank order
+        self.devices = devices_per_rank(comm, self.device_name)
         check_device_memory(self.model, self.device_name)
         self.dm = DeviceModel(self.model, self.device_name)
+        self.halo = halo_for(self.model, self.dm)  # None when serial
+        self._n_own = owned_rows(self.model, self.dm.n)  # the rows reductions count
         self.family, self.extras = device_terms(self.model, self.dm)
         inv = 1.0 / np.asarray(self.model.density, dtype=np.float64)
         self._inv_mass_d = self.dm.upload("inv_mass", inv)
@@ -121,7 +140,9 @@ class WarpExplicitSolver(ExplicitSolver):
         self._keep_good(s)
 
     def describe(self) -> str:
-        """dt, stable limit, steps and the device."""
+        """dt, stable limit, steps and the device (of every rank under MPI)."""
+        if len(self.devices) > 1:
+            return f"{super().describe()}, Warp devices {', '.join(self.devices)} (by rank)"
         return f"{super().describe()}, Warp device {self.device_name}"
 
     def summary_fields(self, state: State) -> dict[str, Any]:
@@ -129,6 +150,8 @@ class WarpExplicitSolver(ExplicitSolver):
         out = super().summary_fields(state)
         out["backend"] = "warp"
         out["device"] = self.device_name
+        if len(self.devices) > 1:
+            out["devices_per_rank"] = list(self.devices)
         fields = state.fields
         if isinstance(fields, MirrorFields):
             out["device_to_host_bytes"] = int(fields.copied_bytes)
@@ -156,6 +179,8 @@ class WarpExplicitSolver(ExplicitSolver):
                 [ds.u, ds.u_prev, ds.v, ds.force, ds.body, self._inv_mass_d, wdt],
             )
         self._constrain(t_new, velocities_only=False)
+        if self.halo is not None:  # the ghosts' u and v, as Evaluator.exchange_dofs
+            self.halo.exchange(ds)
         self.family.evaluate(ds, True)
         for extra in self.extras:
             extra.add(ds)
@@ -190,8 +215,8 @@ class WarpExplicitSolver(ExplicitSolver):
             return 0
         ds, dm = self.ds, self.dm
         assert ds is not None
-        self._total.zero_()
-        dm.launch(k.count_broken, dm.n, [ds.broken, self._total])
+        self._total.zero_()  # the owned families' bonds (all points when serial)
+        dm.launch(k.count_broken, self._n_own, [ds.broken, self._total])
         return int(self._total.numpy()[0])
 
     def _loads_at(self, t: float) -> None:
@@ -252,10 +277,13 @@ class WarpExplicitSolver(ExplicitSolver):
 
     def point_damage(self, s: State) -> NDArray[np.float64] | None:
         """Local damage (n,) reduced on the device (the bond flags stay there), the
-        bits of :meth:`~peridynamics.evaluation.measures.Measures.point_damage`; None
-        before :meth:`init`."""
+        bits of :meth:`~peridynamics.evaluation.measures.Measures.point_damage` (every
+        local row under MPI, as there: callers read the owned ones); None before
+        :meth:`init`, and under MPI for a State other than this rank's own (rank 0's
+        observers see the whole body, whose damage the ranks reduce through the run's
+        session)."""
         ds, dm = self.ds, self.dm
-        if ds is None:
+        if ds is None or not self._own_state(s):
             return None
         if self._damage is None:
             self._damage = dm.zeros(dm.n, dm.wp.float64)
@@ -271,41 +299,51 @@ class WarpExplicitSolver(ExplicitSolver):
         """(kinetic, strain) energy (J) with the strain energy density reduced on the
         device (n floats back, not u and the bond flags); the sums are the host's
         (:meth:`~peridynamics.evaluation.measures.Measures.state_energies`). None when the
-        family has no device energy."""
+        family has no device energy, or under MPI for a State other than this rank's
+        own; then over the owned points of every rank (collective)."""
         ds = self.ds
-        if ds is None or self._energy is None:
+        if ds is None or self._energy is None or not self._own_state(s):
             return None
         m = self.model
         w = self._energy.strain_energy_density(ds).numpy()
         fields = s.fields
         if isinstance(fields, MirrorFields):
             fields.copied_bytes += w.nbytes
-        strain = m.comm.sum(float(np.sum(w * m.cloud.volume)))
+        own = m.comm.owned  # every row when serial
+        strain = m.comm.sum(float(np.sum(w[own] * m.cloud.volume[own])))
         return m.kinetic_energy(s.v), strain
+
+    def _own_state(self, s: State) -> bool:
+        """True unless decomposed and ``s`` is not the State this rank steps (its fields
+        mirror the device)."""
+        return not decomposed(self.model) or isinstance(s.fields, MirrorFields)
 
     # -- checks --------------------------------------------------------------------
     def check(self, s: State) -> None:
         """The stability check of :meth:`ExplicitSolver.check` on the device: one
         reduction to the host; only an unsound state is copied back (then the host's
-        check words the error)."""
+        check words the error). Under MPI over the owned points, the verdict agreed by
+        every rank (collective)."""
         ds, dm = self.ds, self.dm
         if ds is None:
             super().check(s)
             return
-        w = dm.wp
+        w, n, comm = dm.wp, self._n_own, self.model.comm
         self._shift.zero_()
-        dm.launch(k.sum_columns, dm.n, [ds.u, self._shift])
+        dm.launch(k.sum_columns, n, [ds.u, self._shift])
         self.family.max_stretch(ds, self._stretch)
         self._first.fill_(np.iinfo(np.int32).max)
         limit = w.float64(self._blowup_limit)
-        scale = 1.0 / dm.n
-        shift = to_device(self._shift.numpy() * scale, dm.device)
+        shift = to_device(mean_shift(comm, self._shift.numpy(), n), dm.device)
         dm.launch(
             k.first_bad_point,
-            dm.n,
+            n,
             [ds.u, ds.v, shift, limit, self._stretch, w.float64(self.max_stretch), self._first],
         )
-        if int(self._first.numpy()[0]) != np.iinfo(np.int32).max:
+        bad = int(self._first.numpy()[0]) != np.iinfo(np.int32).max
+        if comm.size > 1:
+            bad = comm.any(bad)
+        if bad:
             self.last_good = self._good_state(s)
             super().check(s)  # reads the mirrored fields, raises with the host's message
         self._keep_good(s)
