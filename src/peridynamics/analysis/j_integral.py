@@ -3,7 +3,7 @@
 Rice's contour integral evaluated on the peridynamic fields, as Stenström & Eriksson
 (2019) do with the displacement derivatives of the peridynamic solution (here: the
 nonlocal deformation gradient of every family,
-:func:`peridynamics.evaluation.stress.point_strain`'s F, and the model's stress,
+:func:`peridynamics.evaluation.stress.displacement_gradient`, and the model's stress,
 :func:`peridynamics.evaluation.stress.point_stress`):
 
     J = sum over the contour of (W n_1 - sigma_ab n_b du_a/dx_1) ds       (J/m^2)

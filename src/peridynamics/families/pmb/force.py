@@ -228,7 +228,7 @@ class PMBForceModel(LargestStretchPass, ForceModel):
     def pair_force_coefficients(self, state: State) -> NDArray[np.float64]:
         """g_k = stiffness_k mu_k (1/L_k - 1/r_k) (n_bonds,) (N/m^4): the force density
         of bond k on its point is ``g_k y_k`` (the kernel's pair force; the stress of
-        :meth:`point_stress`)."""
+        ``point_stress``)."""
         b = self.bonds
         y = b.bond_xi + (state.u[b.bond_j] - state.u[b.bond_i])
         r = np.sqrt(np.einsum("ij,ij->i", y, y))

@@ -38,7 +38,8 @@ def frame_fields(
     output: Output, s: State, damage: NDArray, model: Any = None
 ) -> dict[str, NDArray]:
     """The point fields of a frame, as chosen by ``output.fields``; those computed from
-    the ``model`` (stress, strain, ...: :data:`POINT_FIELDS`) when it is given."""
+    the ``model`` (stress, strain, ...:
+    :data:`peridynamics.io.observers.point_fields.POINT_FIELDS`) when it is given."""
     fields = output.fields
     data: dict[str, NDArray] = {}
     if "displacement" in fields:
