@@ -19,7 +19,7 @@ from peridynamics.geometry.cloud import PointCloud
 
 #: transient memory of the per-bond set-up work, per range of bonds (bytes): the arrays
 #: of a bond list are filled range by range, so building them costs about their own size
-SETUP_CHUNK_BYTES = 256 * 2**20
+SETUP_CHUNK_BYTES = 64 * 2**20
 
 #: clouds with at least this many points use the cell-grid search
 #: (:func:`~peridynamics.bonds.search.directed_bonds`, memory-bounded); smaller ones the
