@@ -14,8 +14,8 @@ DX = 1e-3
 
 
 def _williams(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Mode-I near-tip field, plane stress (Anderson, Fracture Mechanics, table 2.1-2.2):
-    displacement (n, 2) and stress (n, 2, 2)."""
+    """The leading (K_I) term of Williams' (1957) mode-I near-tip field, plane stress
+    (kappa = (3 - nu)/(1 + nu)): displacement (n, 2) and stress (n, 2, 2)."""
     mu, kap = E / (2 * (1 + NU)), (3 - NU) / (1 + NU)
     r, th = np.hypot(x[:, 0], x[:, 1]), np.arctan2(x[:, 1], x[:, 0])
     c = K_I / (2 * mu) * np.sqrt(r / (2 * np.pi))
