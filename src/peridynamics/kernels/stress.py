@@ -19,8 +19,8 @@ Notation (per directed bond k = (i, j)): ``xi_k = x_j - x_i``, ``y_k = xi_k + u_
 * Nonlocal deformation gradient (the shape tensor and F of the correspondence model of
   Silling et al. (2007), with unit influence and the partial volumes as weights):
   ``K_i = sum_k mu_k w_k xi_k (x) xi_k``, ``N_i = sum_k mu_k w_k y_k (x) xi_k``,
-  ``F_i = N_i K_i^-1``; the identity where K_i is singular (``DEGENERATE``) (a family with fewer than
-  ``dim`` independent intact bonds).
+  ``F_i = N_i K_i^-1``; the identity where K_i is singular (``DEGENERATE``: a family
+  with fewer than ``dim`` independent intact bonds).
 """
 
 from __future__ import annotations
