@@ -30,6 +30,31 @@ def _reduce(vals: NDArray, how: str, comm: Any) -> float:
     return comm.min(float(np.min(vals)) if len(vals) else np.inf)
 
 
+def tip_distance(
+    ctx: RunContext, s: State, origin: NDArray, direction: NDArray | None, threshold: float
+) -> float:
+    """:func:`~peridynamics.analysis.crack.crack_tip` of the whole body (points a
+    pre-crack damaged at t = 0 left out); under MPI every rank's farthest owned point,
+    the largest over the ranks (the serial value: a maximum)."""
+    if ctx.session is not None:
+        return float(ctx.session.call("call", _tip_on_ranks, origin, direction, threshold))
+    pre_damaged = ctx.initial_damage() >= threshold
+    return crack_tip(ctx.model.cloud.x, ctx.damage(s), origin, direction, threshold, pre_damaged)
+
+
+def _tip_on_ranks(
+    session: Any, origin: NDArray, direction: NDArray | None, threshold: float
+) -> float:
+    """Every rank: :func:`tip_distance` of its owned points, the largest over the ranks."""
+    m, n = session.model, session.comm.n_owned
+    initial = session.cache.get("initial_damage")
+    if initial is None:
+        initial = session.cache["initial_damage"] = m.point_damage(m.bonds.bond_intact)[:n]
+    damage = session.local_damage()[:n]
+    mine = crack_tip(m.cloud.x[:n], damage, origin, direction, threshold, initial >= threshold)
+    return session.comm.max(mine)
+
+
 # ----------------------------------------------------------------------- histories
 class History(Observer):
     """Time, energies, largest damage, probes, stress-strain and crack tip every
@@ -141,10 +166,7 @@ class History(Observer):
             r.setdefault("strain", []).append(float(np.sum(travel * d) / ss.length))
         if self._tip is not None:
             origin, direction, thr = self._tip
-            pre_damaged = ctx.initial_damage() >= thr  # points a pre-crack damages at t = 0
-            r["crack_tip_m"].append(  # the whole damage field (gathered under MPI)
-                crack_tip(m.cloud.x, ctx.damage(s), origin, direction, thr, pre_damaged)
-            )
+            r["crack_tip_m"].append(tip_distance(ctx, s, origin, direction, thr))
 
     def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
         r = ctx.records
