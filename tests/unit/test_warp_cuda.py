@@ -23,7 +23,7 @@ pytestmark = pytest.mark.gpu  # the Warp tier (pytest -m gpu); the smoke test: t
 MODULES = [
     "_warp_dsl", "_warp_step_dsl", "_warp_damage_dsl", "_warp_lps_dsl",
     "_warp_correspondence_prepass_dsl", "_warp_correspondence_dsl", "_warp_extras_dsl",
-    "_warp_short_range_contact_dsl", "_warp_energy_dsl",
+    "_warp_short_range_contact_dsl", "_warp_energy_dsl", "_warp_halo_dsl",
 ]  # fmt: skip
 ROOT = Path(__file__).resolve().parents[2]
 
