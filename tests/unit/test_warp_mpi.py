@@ -76,6 +76,8 @@ def test_two_ranks_on_warp_give_the_serial_warp_run(
     assert rm["results"]["bonds_broken"] == rs["results"]["bonds_broken"]
     assert rm["results"]["backend"] == "warp"
     assert rm["results"]["devices_per_rank"] == ["cpu", "cpu"]
+    for key in ("kinetic_energy_J", "strain_energy_J"):  # sums over ranks: round-off
+        assert rm["results"][key] == pytest.approx(rs["results"][key], rel=1e-12, abs=0.0)
     assert rm["timing"]["ranks"] == 2 and rm["timing"]["halo_exchanges"] >= 300
 
 
