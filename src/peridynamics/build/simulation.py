@@ -16,9 +16,9 @@ from typing import Any, Self
 
 from peridynamics import deck as dk
 from peridynamics.build.bodies import (
+    attach_rigid_bodies,
     body_layout,
     build_bodies_model,
-    attach_rigid_bodies,
     has_bodies,
 )
 from peridynamics.build.cloud import build_bonds_for, build_cloud
@@ -56,6 +56,11 @@ class SimulationSetup:
         its ranks (:mod:`peridynamics.parallel`); every rank calls this."""
         t0 = time.perf_counter()
         if comm is not None and comm.Get_size() > 1:
+            if deck.solver.type in ("heat", "heat_steady"):
+                raise SetupError(
+                    "solver.type",
+                    f"{deck.solver.type} runs in one process; run it without mpiexec",
+                )
             from peridynamics.build.decomposed import build_distributed
             from peridynamics.parallel.session import Session
 

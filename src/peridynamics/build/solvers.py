@@ -10,6 +10,7 @@ from typing import Any
 from peridynamics import deck as dk
 from peridynamics.bonds import build_bonds
 from peridynamics.build.errors import SetupError
+from peridynamics.build.thermal import build_heat, build_heat_steady
 from peridynamics.damage import NO_DAMAGE
 from peridynamics.evaluation import Evaluator
 from peridynamics.geometry import PointCloud
@@ -172,6 +173,8 @@ SOLVERS: dict[str, SolverBuilder] = {
     "explicit": build_explicit,
     "static": build_static,
     "adr": build_adr,
+    "heat": build_heat,
+    "heat_steady": build_heat_steady,
 }
 
 

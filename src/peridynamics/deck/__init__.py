@@ -77,10 +77,13 @@ from peridynamics.deck.solver import (
     SOLVER_SCHEMAS,
     ADRSolverSpec,
     AnySolver,
+    HeatSolverSpec,
     Hybrid,
     Solver,
     StaticSolverSpec,
+    SteadyHeatSolverSpec,
 )
+from peridynamics.deck.thermal import ConvectionBC, HeatFluxBC, TemperatureBC, Thermal
 from peridynamics.deck.time_functions import (
     BlastTF,
     ConstantTF,
@@ -93,6 +96,12 @@ from peridynamics.deck.time_functions import (
 )
 
 __all__ = [
+    "ConvectionBC",
+    "HeatFluxBC",
+    "HeatSolverSpec",
+    "SteadyHeatSolverSpec",
+    "TemperatureBC",
+    "Thermal",
     "MATERIAL_SCHEMAS",
     "SOLVER_SCHEMAS",
     "SPEED_OF_LIGHT",

@@ -17,6 +17,7 @@ from peridynamics.deck.output import crack_tracking_errors, output_errors, probe
 from peridynamics.deck.regions import node_set_errors, node_set_names
 from peridynamics.deck.schema import Deck
 from peridynamics.deck.solver import solver_errors
+from peridynamics.deck.thermal import thermal_errors
 from peridynamics.deck.types import Errors
 
 
@@ -33,6 +34,7 @@ def cross_check(deck: Deck) -> Errors:
     errors += precrack_errors(deck)
     errors += output_errors(deck, sets)
     errors += solver_errors(deck)
+    errors += thermal_errors(deck, sets)
     errors += probe_errors(deck, sets)
     errors += crack_tracking_errors(deck, sets)
     errors += notch_errors(deck)

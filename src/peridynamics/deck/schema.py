@@ -15,6 +15,7 @@ from peridynamics.deck.materials import AnyMaterial
 from peridynamics.deck.output import Output
 from peridynamics.deck.regions import RegionSpec
 from peridynamics.deck.solver import AnySolver
+from peridynamics.deck.thermal import Thermal
 from peridynamics.deck.types import Strict
 
 
@@ -35,6 +36,7 @@ class Deck(Strict):
     interfaces: list[InterfaceSpec] = []
     rigid_bodies: list[RigidBodySpec] = []
     boundary_conditions: list[BoundaryCondition] = []
+    thermal: Thermal | None = None
     solver: AnySolver
     output: Output = Output()
 

@@ -1,5 +1,6 @@
 """Deck section ``solver``: explicit dynamics (with finite-difference and hybrid
-variants), adaptive dynamic relaxation and the implicit static solver; the registry of
+variants), adaptive dynamic relaxation, the implicit static solver and heat
+conduction (transient and steady); the registry of
 solvers (:data:`SOLVER_SCHEMAS`)."""
 
 from __future__ import annotations
@@ -111,17 +112,57 @@ class StaticSolverSpec(Strict):
         return _numba_only(data, "static")
 
 
+class HeatSolverSpec(Strict):
+    """Transient heat conduction by forward Euler (``type: heat``,
+    docs/theory_thermal.md): ``time_step`` or ``safety_factor`` times the stable step
+    rho c / sum G; ``end_time`` or ``steps``. Numba only (``backend: warp`` is refused)."""
+
+    type: Literal["heat"]
+    time_step: PosFloat | None = None
+    safety_factor: Annotated[float, Field(gt=0, le=1, allow_inf_nan=False), Num] = 0.9
+    end_time: PosFloat | None = None
+    steps: Annotated[int, Field(gt=0), Num] | None = None
+    allow_unstable: bool = False
+
+    @model_validator(mode="before")
+    @classmethod
+    def _backend(cls, data: Any) -> Any:
+        return _numba_only(data, "heat")
+
+    @model_validator(mode="after")
+    def _length(self) -> HeatSolverSpec:
+        if (self.end_time is None) == (self.steps is None):
+            raise ValueError("[end_time] give exactly one of end_time (s) or steps")
+        return self
+
+
+class SteadyHeatSolverSpec(Strict):
+    """The steady temperature by one sparse solve (``type: heat_steady``; the
+    conditions' time functions at pseudo-time 1). Numba only."""
+
+    type: Literal["heat_steady"]
+
+    @model_validator(mode="before")
+    @classmethod
+    def _backend(cls, data: Any) -> Any:
+        return _numba_only(data, "heat_steady")
+
+
 #: the registry of solvers: deck name -> schema of its section
 SOLVER_SCHEMAS: dict[str, type[Strict]] = {
     "explicit": Solver,
     "adr": ADRSolverSpec,
     "static": StaticSolverSpec,
+    "heat": HeatSolverSpec,
+    "heat_steady": SteadyHeatSolverSpec,
 }
 
 AnySolver = Annotated[
     Annotated[Solver, Tag("explicit")]
     | Annotated[ADRSolverSpec, Tag("adr")]
-    | Annotated[StaticSolverSpec, Tag("static")],
+    | Annotated[StaticSolverSpec, Tag("static")]
+    | Annotated[HeatSolverSpec, Tag("heat")]
+    | Annotated[SteadyHeatSolverSpec, Tag("heat_steady")],
     Discriminator(tag_of("explicit", "type")),
 ]
 

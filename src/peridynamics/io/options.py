@@ -211,6 +211,7 @@ class Period(Strict):
 FrameField = Literal[
     "displacement", "velocity", "damage", "force_density", "rotation", "moment",
     "stress", "strain", "von_mises", "pressure", "principal_stress", "principal_direction",
+    "temperature",
 ]  # fmt: skip
 
 

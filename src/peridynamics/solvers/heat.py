@@ -85,8 +85,14 @@ class _HeatBase:
     def check(self, state: State) -> None:
         """Raise :class:`SimulationUnstable` on a non-finite temperature; else keep the
         state as the last good one."""
-        if not np.all(np.isfinite(state["T"])):
-            raise SimulationUnstable(f"non-finite temperature at step {state.step}")
+        bad = np.flatnonzero(~np.isfinite(state["T"]))
+        if len(bad):
+            p = int(bad[0])
+            where = [float(c) for c in self.conduction.cloud.x[p]]
+            raise SimulationUnstable(
+                f"non-finite temperature at step {state.step}",
+                state.step, state.t, p, where, self.last_good,
+            )  # fmt: skip
         self.last_good = state.snapshot(self.last_good)
 
     def resume(self, state: State) -> None:
@@ -242,7 +248,7 @@ class SteadyHeatSolver(_HeatBase):
         rhs_f = rhs[free] - a[free][:, held] @ T[held]
         T[free] = spla.spsolve(a_ff, rhs_f)
         residual = float(
-            np.linalg.norm(a_ff @ T[free] - rhs_f) / max(np.linalg.norm(rhs_f), 1e-300)
+            np.linalg.norm(a_ff @ T[free] - rhs_f) / max(float(np.linalg.norm(rhs_f)), 1e-300)
         )
         state.t, state.step = t, state.step + 1
         return StepResult(converged=True, residual=residual)

@@ -55,8 +55,10 @@ def frame_fields(
             data["rotation"] = s["theta"][:, 0]
         if "moment" in fields:
             data["moment_density"] = s["moment"][:, 0]
+    if "temperature" in fields and "T" in s:  # a heat solver's temperature (K)
+        data["temperature"] = s["T"]
     if model is not None:
-        data.update(point_fields(list(fields), model, s))
+        data.update(point_fields([f for f in fields if f != "temperature"], model, s))
     return data
 
 

@@ -1,0 +1,97 @@
+"""Deck section ``thermal``: heat conduction (docs/theory_thermal.md): the thermal
+properties of the body, its initial temperature and the thermal conditions on node
+sets (prescribed temperature, heat flux, convection); run by ``solver.type: heat``
+(transient) or ``heat_steady``."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any, Literal
+
+from pydantic import Field
+
+from peridynamics.deck.time_functions import ConstantTF, TimeFunctionSpec
+from peridynamics.deck.types import Errors, Finite, NonNegFloat, PosFloat, Strict
+
+
+class _OnSet(Strict):
+    set: str
+
+
+class TemperatureBC(_OnSet):
+    """T = value * f(t) (K) held on the set."""
+
+    type: Literal["temperature"]
+    value: Finite
+    time_function: TimeFunctionSpec = ConstantTF(type="constant")
+
+
+class HeatFluxBC(_OnSet):
+    """A heat flux into the body q = value * f(t) (W/m^2) spread over the set's layer
+    (thickness ``layer_thickness``, or the set's extent along ``normal`` plus a spacing)."""
+
+    type: Literal["heat_flux"]
+    value: Finite
+    normal: list[Finite] | None = None
+    layer_thickness: PosFloat | None = None
+    time_function: TimeFunctionSpec = ConstantTF(type="constant")
+
+
+class ConvectionBC(_OnSet):
+    """Convection h (T_inf f(t) - T) (W/m^2) over the set's layer: ``film`` h
+    (W/(m^2 K)), ``ambient`` T_inf (K) times the time function."""
+
+    type: Literal["convection"]
+    film: NonNegFloat
+    ambient: Finite
+    normal: list[Finite] | None = None
+    layer_thickness: PosFloat | None = None
+    time_function: TimeFunctionSpec = ConstantTF(type="constant")
+
+
+ThermalCondition = Annotated[TemperatureBC | HeatFluxBC | ConvectionBC, Field(discriminator="type")]
+
+
+class Thermal(Strict):
+    """Heat conduction: ``conductivity`` k (W/(m K)), ``specific_heat`` c_v
+    (J/(kg K), with ``material.density``), ``initial_temperature`` (K), the energy-method
+    ``surface_correction`` of the micro-conductivity, and the ``conditions``."""
+
+    conductivity: PosFloat
+    specific_heat: PosFloat
+    initial_temperature: Finite = 0.0
+    surface_correction: bool = True
+    conditions: list[ThermalCondition] = []
+
+
+def thermal_errors(deck: Any, sets: set[str]) -> Errors:
+    """A heat solver needs ``thermal`` and no mechanical conditions; ``thermal`` needs a
+    heat solver (thermo-mechanical coupling is not implemented yet); known node sets and
+    normals of the model's dimension."""
+    errors: Errors = []
+    heat = deck.solver.type in ("heat", "heat_steady")
+    th = deck.thermal
+    if heat and th is None:
+        errors.append(("thermal", f"solver.type {deck.solver.type} needs a thermal section"))
+    if th is not None and not heat:
+        errors.append(
+            (
+                "thermal",
+                "a thermal section is run by solver.type heat or heat_steady (coupling to "
+                "the mechanics is not implemented yet)",
+            )
+        )
+    if heat and deck.boundary_conditions:
+        errors.append(
+            (
+                "boundary_conditions",
+                "a heat solver does not step the mechanics: give thermal.conditions instead",
+            )
+        )
+    for n, bc in enumerate(th.conditions if th is not None else []):
+        path = f"thermal.conditions.{n}"
+        if bc.set not in sets:
+            errors.append((f"{path}.set", f"unknown node set {bc.set!r}; known: {sorted(sets)}"))
+        normal = getattr(bc, "normal", None)
+        if normal is not None and len(normal) != deck.dim:
+            errors.append((f"{path}.normal", f"needs {deck.dim} components"))
+    return errors
