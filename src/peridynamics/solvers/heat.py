@@ -156,6 +156,8 @@ class HeatSolver(_HeatBase):
             if end_time is None:
                 raise ValueError("[end_time] give end_time (s) or steps")
             steps = max(1, math.ceil(end_time / self.dt - 1e-9))
+            if time_step is None:  # the step that ends the run at end_time exactly
+                self.dt = end_time / steps
         self.n_steps = int(steps)
         n = conduction.n_points
         self._rate, self._src = np.zeros(n), np.zeros(n)
