@@ -36,13 +36,25 @@ def _fingerprint(case: Case, tier: str, deck_dump: dict[str, Any]) -> str:
     return hashlib.sha256(text.encode()).hexdigest()
 
 
-def _load(case: Case, tier: str) -> Any:
+def _load(case: Case, tier: str, extra: tuple[str, ...] = ()) -> Any:
     from peridynamics.deck import load_deck
 
     decks = list_examples()
     if case.deck not in decks:
         raise FileNotFoundError(f"case {case.name}: no example deck {case.deck!r}")
-    return load_deck(decks[case.deck], list(case.overrides(tier) or ()))
+    return load_deck(decks[case.deck], [*(case.overrides(tier) or ()), *extra])
+
+
+def _run_deck(deck: Any, folder: Path, fingerprint: str) -> tuple[dict[str, Any], bool]:
+    """The summary of ``deck`` run into ``folder`` (or of a finished run there with the
+    same fingerprint) and whether it was reused."""
+    summary = _finished(folder, fingerprint)
+    if summary is not None:
+        return summary, True
+    from peridynamics.app.run import Simulation
+
+    folder.mkdir(parents=True, exist_ok=True)
+    return Simulation.from_deck(deck).run(folder, quiet=True, progress=False), False
 
 
 def run_one(case: Case, tier: str, out: Path) -> dict[str, Any]:
@@ -55,13 +67,16 @@ def run_one(case: Case, tier: str, out: Path) -> dict[str, Any]:
     try:
         deck = _load(case, tier)
         fingerprint = _fingerprint(case, tier, deck.model_dump(mode="json", by_alias=True))
-        summary = _finished(folder, fingerprint)
-        record["reused"] = summary is not None
-        if summary is None:
-            from peridynamics.app.run import Simulation
-
-            folder.mkdir(parents=True, exist_ok=True)
-            summary = Simulation.from_deck(deck).run(folder, quiet=True, progress=False)
+        summary, record["reused"] = _run_deck(deck, folder, fingerprint)
+        if case.companion is not None:  # the same problem by another scheme
+            other = _load(case, tier, case.companion)
+            dump = other.model_dump(mode="json", by_alias=True)
+            sub = folder / "companion"
+            companion, _ = _run_deck(other, sub, _fingerprint(case, tier, dump))
+            _write_record(sub, {"fingerprint": _fingerprint(case, tier, dump)})
+            summary = {**summary, "companion": companion}
+            if companion.get("status", "completed") != "completed":
+                summary["status"] = "companion " + str(companion.get("status"))
         record["status"] = summary.get("status", "completed")
         record["checks"] = _judge(case, summary)
         record["figures"] = [f for f in summary.get("files", []) if f.endswith(".png")]
@@ -72,10 +87,15 @@ def run_one(case: Case, tier: str, out: Path) -> dict[str, Any]:
         c["passed"] for c in record["checks"]
     )
     record["wall_s"] = time.perf_counter() - t0
+    _write_record(folder, record)
+    return record
+
+
+def _write_record(folder: Path, record: dict[str, Any]) -> None:
+    """``folder/case.json`` (the fingerprint a rerun compares), where the run wrote."""
     if folder.is_dir():
         with atomic_path(folder / "case.json") as tmp:
             tmp.write_text(json.dumps(record, indent=2) + "\n")
-    return record
 
 
 def _finished(folder: Path, fingerprint: str) -> dict[str, Any] | None:

@@ -85,6 +85,11 @@ class Case:
         Overrides of the full tier (the shipped deck: ``()``).
     checks : tuple of Check
         What is compared.
+    companion : tuple of str or None
+        Overrides added to the tier's for a second run of the same deck (into
+        ``<case>/companion/``), whose summary the checks read as ``summary["companion"]``:
+        a case whose reference is another scheme's run of the same problem (the 1-D
+        finite-difference scheme against peridynamics with delta = dx). ``None``: one run.
     """
 
     name: str
@@ -93,6 +98,7 @@ class Case:
     quick: tuple[str, ...] | None
     full: tuple[str, ...] = ()
     checks: tuple[Check, ...] = field(default_factory=tuple)
+    companion: tuple[str, ...] | None = None
 
     def overrides(self, tier: str) -> tuple[str, ...] | None:
         """The overrides of ``tier`` (``"quick"`` or ``"full"``), ``None`` when the case
@@ -171,6 +177,24 @@ def _width_change(inputs: Summary) -> float:
     return -sigma * width / (3.0 * e)  # nu = 1/3
 
 
+def _companion_gap(summary: Summary, probe: str) -> float:
+    """max_t |p(t) - p_c(t)| / max_t |p_c(t)| of the probe ``probe`` of the run and of
+    its companion run (the same records)."""
+    a = np.asarray(_probe(summary, probe)["values"], dtype=float)
+    b = np.asarray(_probe(summary["companion"], probe)["values"], dtype=float)
+    if a.shape != b.shape:
+        raise ValueError(f"{probe}: {a.shape} records against {b.shape}")
+    return float(np.abs(a - b).max() / np.abs(b).max())
+
+
+_FDM = (
+    "the explicit finite-difference scheme on the same nodes (Lu & Wang 2016, eq. 17), "
+    "which bond-based PD with delta = dx and the truncated partial volumes is"
+)
+#: delta = dx with the default surface correction (true), spelled out: the example deck
+#: turns it off for Lu & Wang's uncorrected delta = 3 dx
+_NEAREST = ("discretisation.horizon_factor=1", "discretisation.surface_correction=true")
+
 _PLATE_CHECKS = (
     Check(
         "elongation between the loaded rows", "m",
@@ -201,6 +225,28 @@ CASES: tuple[Case, ...] = (
                 lambda s: abs(float(_probe(s, "gauge_velocity")["peak"])),
                 lambda i: _pulse(i)[0] / (_material(i)[1] * _bar_speed(i)),
                 _WAVE + ": v = sigma / (rho c)", rel=0.03,
+            ),
+        ),
+    ),
+    Case(
+        "bar_nearest_equals_fdm",
+        "1-D PD with delta = dx and the default surface correction is the finite-"
+        "difference scheme to round-off (the correction is the identity)",
+        "bar_wave_1d",
+        quick=(*_NEAREST, "discretisation.spacing=0.01", "solver.time_step=2e-6"),
+        full=_NEAREST,
+        companion=("solver.method=fdm",),
+        checks=(
+            Check(
+                "largest gap of the gauge velocity (PD - FDM), relative to its peak", "-",
+                lambda s: _companion_gap(s, "gauge_velocity"), lambda i: 0.0,
+                # round-off of (u+ - u-) / 2 dt: 1.3e-12 measured, the same uncorrected
+                _FDM, abs=1e-11,
+            ),
+            Check(
+                "largest gap of the gauge displacement (PD - FDM), relative to its peak", "-",
+                lambda s: _companion_gap(s, "gauge_displacement"), lambda i: 0.0,
+                _FDM, abs=1e-12,
             ),
         ),
     ),

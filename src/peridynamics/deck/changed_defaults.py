@@ -121,6 +121,20 @@ def _lps_touching_step(deck: Deck) -> bool:
     return _lps_touching(deck) and _automatic_explicit_step(deck)
 
 
+def _corrected_bar(deck: Deck) -> bool:
+    """A 1-D grid deck whose bond-based body has the surface correction on (the default):
+    since 0.4.0 the bonds of its complete families keep the factor 1
+    (:func:`peridynamics.bonds.surface.bond_factors_from_point_ratios`)."""
+    disc = deck.discretisation
+    model = getattr(deck.material, "model", None)
+    return (
+        deck.dim == 1
+        and bool(disc.surface_correction)
+        and float(disc.jitter) == 0.0
+        and model not in ("lps", "correspondence")
+    )
+
+
 CHANGED_DEFAULTS = (
     ChangedDefault(
         "discretisation.surface_correction",
@@ -182,6 +196,17 @@ CHANGED_DEFAULTS = (
         "could be unstable in contact): shorter than in 0.2.0; give solver.time_step to "
         "fix it",
         _lps_touching_step,
+    ),
+    ChangedDefault(
+        "discretisation.surface_correction",
+        "0.4.0",
+        "in 1-D the bonds of a point whose family is complete keep the factor 1 (were "
+        "the mean of their ends' factors, a force on that point under a uniform strain): "
+        "the bonds that reach the end points are softer than before, and with delta = dx "
+        "the model is the finite-difference scheme again; set "
+        "discretisation.surface_correction: false for the uncorrected model (no key "
+        "restores the old factors)",
+        _corrected_bar,
     ),
 )
 
