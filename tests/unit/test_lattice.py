@@ -18,6 +18,7 @@ from peridynamics.geometry.lattice import (
     rectangle_lattice,
 )
 from peridynamics.geometry.regions import is_pointwise, map_leaves
+from peridynamics.parallel.grid_rcb import box_owner, mask_layer_counts, rcb_boxes
 
 HOLE = [Ball((0.011, 0.006), 0.003)]
 CASES = {
@@ -69,13 +70,26 @@ def test_lattice_is_the_generator_and_windows_are_its_rows(kind: str) -> None:
     idx_all = np.round((ref.x - [a[0] for a in lattice.axes]) / lattice.spacing).astype(int)
     inside = np.all((idx_all >= lo) & (idx_all < hi), axis=1)
     np.testing.assert_array_equal(ids, np.flatnonzero(inside))
-    # blocks counted over two halves of the slabs add up to the points
+    # the bisection of the body into boxes from masks split between two "ranks"
+    masks = np.stack(
+        [lattice.kept(lattice.grid(i, i + 1)).reshape(lattice.shape[1:])
+         for i in range(lattice.shape[0])]
+    )  # fmt: skip
     half = lattice.shape[0] // 2
-    blocks = lattice.block_counts(np.arange(half), 3) + lattice.block_counts(
-        np.arange(half, lattice.shape[0]), 3
-    )
-    assert blocks.sum() == ref.n_points
-    assert blocks.shape == tuple(-(-n // 3) for n in lattice.shape)
+
+    def counts(requests):  # two ranks' counts, summed
+        a = mask_layer_counts(masks[:half], 0, requests)
+        b = mask_layer_counts(masks[half:], half, requests)
+        return [p + q for p, q in zip(a, b, strict=True)]
+
+    for parts in (2, 3, 5):
+        boxes = rcb_boxes(lattice.shape, parts, counts)
+        idx = np.argwhere(masks)  # grid index of every point, grid order
+        owner = box_owner(boxes, idx)
+        assert owner.min() == 0  # every point has one part
+        load = np.bincount(owner, minlength=parts)
+        layer = max(int(np.prod(lattice.shape)) // min(lattice.shape), 1)  # one layer
+        assert np.all(np.abs(load - ref.n_points / parts) <= layer), (parts, load)
 
 
 def test_empty_window_and_regions_that_see_the_whole_body() -> None:

@@ -9,8 +9,8 @@ holds. Points are numbered in grid order (``"ij"``: the first axis slowest), ski
 the removed ones; the global id of a point is the number of kept points before it.
 A decomposed run (:mod:`peridynamics.parallel.windowed`) makes only the window each
 rank holds, a slab of the first axis at a time, so no rank holds the whole cloud:
-:meth:`Lattice.slab_counts` numbers the slabs, :meth:`Lattice.block_counts` weighs
-coarse blocks for the partition and :meth:`Lattice.window` makes the points.
+:meth:`Lattice.slab_counts` numbers the slabs and :meth:`Lattice.window` makes the
+points.
 """
 
 from __future__ import annotations
@@ -116,23 +116,6 @@ class Lattice:
         out = np.zeros(len(slabs), dtype=np.int64)
         for k, i in enumerate(slabs):
             out[k] = int(self.kept(self.grid(int(i), int(i) + 1)).sum())
-        return out
-
-    def block_counts(self, slabs: NDArray[np.intp], block: int) -> NDArray[np.int64]:
-        """Kept points per coarse block of ``block`` cells a side, counted over the given
-        slabs only (sum over a partition of the slabs for every point), shape
-        ``ceil(shape / block)``."""
-        nb = tuple(-(-n // block) for n in self.shape)
-        out = np.zeros(nb, dtype=np.int64)
-        idx = np.meshgrid(*(np.arange(n) // block for n in self.shape[1:]), indexing="ij")
-        rest = np.ravel_multi_index([a.ravel() for a in idx], nb[1:]) if self.dim > 1 else None
-        for i in slabs:
-            keep = self.kept(self.grid(int(i), int(i) + 1))
-            row = out[int(i) // block].reshape(-1)
-            if rest is None:
-                row += int(keep.sum())
-            else:
-                row += np.bincount(rest[keep], minlength=row.size)
         return out
 
     def window(
