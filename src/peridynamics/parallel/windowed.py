@@ -26,6 +26,7 @@ each); the masks of its slabs (one byte per cell of its share) live during set-u
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -82,7 +83,7 @@ def windowed_layout(
             f"{n_global} points cannot be shared by {size} ranks; use fewer ranks (mpiexec -n)"
         )
 
-    def layer_counts(requests: list[tuple[Box, int]]) -> list[NDArray[np.int64]]:
+    def layer_counts(requests: Sequence[tuple[Box, int]]) -> list[NDArray[np.int64]]:
         local = mask_layer_counts(masks, first_slab, requests)
         flat = np.concatenate(local) if local else np.zeros(0, np.int64)
         total = np.empty_like(flat)
