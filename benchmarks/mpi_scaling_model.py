@@ -840,8 +840,8 @@ def largest_model(
     """The most points that fit ``args.nodes`` nodes of ``args.node_gib`` GiB, one rank
     per node: each node holds its share of the points (``--peak-bytes-per-point``, the
     measured serial peak, or the model's owned + ghost bytes per owned point of ``row``)
-    plus the replicated part (the global cloud when replicated; the slab and block
-    arrays, a few MB, when windowed).
+    plus the replicated part (the global cloud when replicated; the slab ids and the
+    ranks' boxes, well under a megabyte, when windowed).
     """
     per_point = args.peak_bytes_per_point or (
         (row["owned_memory_bytes"] + row["ghost_memory_bytes"]) / row["owned"]
@@ -850,8 +850,8 @@ def largest_model(
     nodes = float(args.nodes)
     if cp.set_up == "replicated":  # node >= N per_point / nodes + N global_bytes
         points = node / (per_point / nodes + global_point_bytes(cp, dim))
-    else:  # the slab and block arrays: 8 B per slab (N^(1/dim)), 12 B per block
-        points = (node - 12.0 * 512.0 * nodes) / (per_point / nodes)
+    else:  # 8 B per slab (about N^(1/dim) slabs) and 16 dim B per rank's box
+        points = (node - 16.0 * dim * nodes) / (per_point / nodes)
         points -= 8.0 * points ** (1.0 / dim) * nodes / per_point
     return {"points": float(points), "bytes_per_point": float(per_point)}
 
@@ -861,14 +861,13 @@ def replicated_bytes(cp: CostParams, dec: Decomposition) -> float:
 
     ``replicated`` (0.3.0): the global cloud, :func:`global_point_bytes` per point of the
     whole body. ``windowed`` (0.4.0, :mod:`peridynamics.parallel.windowed`): the first
-    global id of every slab of the first grid axis (8 B each) and the count and owner of
-    every partition block (12 B each, 512 blocks per rank, at most one per cell).
+    global id of every slab of the first grid axis (8 B each) and the box of every rank
+    (2 dim int64 each).
     """
     points = float(np.prod(dec.shape, dtype=np.float64))
     if cp.set_up == "replicated":
         return points * global_point_bytes(cp, len(dec.shape))
-    blocks = min(512.0 * dec.owned.size, points)
-    return 8.0 * dec.shape[0] + 12.0 * blocks
+    return 8.0 * dec.shape[0] + 16.0 * len(dec.shape) * dec.owned.size
 
 
 def step_times(dec: Decomposition, cp: CostParams) -> dict[str, np.ndarray]:
