@@ -17,7 +17,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 T0, T1, K, RHO, C = 293.15, 373.15, 237.0, 2700.0, 900.0
-A, B = 0.005, 0.095  # the held rows bounding the body (m)
+A, B = 0.006, 0.094  # the mirror planes bounding the body (m)
 
 
 def series(x: np.ndarray, t: float) -> np.ndarray:

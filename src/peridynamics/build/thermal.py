@@ -18,12 +18,24 @@ from peridynamics.loading import thermal as th
 from peridynamics.solvers.heat import HeatSolver, SteadyHeatSolver
 
 
+def _held(c: Any, n: int, nodes: Any, cloud: PointCloud, f: Any) -> Any:
+    """A ``temperature`` condition: constant on its set, or a mirrored layer."""
+    if c.mirror is None:
+        return th.PrescribedTemperature(nodes, float(c.value), f)
+    p, nn = (np.asarray(v, dtype=float) for v in (c.mirror.point, c.mirror.normal))
+    try:
+        mirror = th.mirror_points(nodes, cloud.x, cloud.spacing, p, nn)
+    except ValueError as exc:
+        raise SetupError(f"thermal.conditions.{n}.mirror", str(exc)) from None
+    return th.MirroredTemperature(nodes, mirror, float(c.value), f)
+
+
 def thermal_conditions(
     spec: dk.Deck, cloud: PointCloud
-) -> tuple[list[th.PrescribedTemperature], list[th.HeatSource], list[th.Convection]]:
-    """``thermal.conditions`` -> (prescribed temperatures, flux sources, convection)."""
+) -> tuple[list[Any], list[th.HeatSource], list[th.Convection]]:
+    """``thermal.conditions`` -> (held temperatures, flux sources, convection)."""
     assert spec.thermal is not None
-    temps: list[th.PrescribedTemperature] = []
+    temps: list[Any] = []
     sources: list[th.HeatSource] = []
     conv: list[th.Convection] = []
     for n, c in enumerate(spec.thermal.conditions):
@@ -32,7 +44,7 @@ def thermal_conditions(
             raise SetupError(f"thermal.conditions.{n}.set", f"node set {c.set!r} is empty")
         f = time_function(c.time_function)
         if c.type == "temperature":
-            temps.append(th.PrescribedTemperature(nodes, float(c.value), f))
+            temps.append(_held(c, n, nodes, cloud, f))
             continue
         normal = None if c.normal is None else np.asarray(c.normal, dtype=float)
         geo: dict[str, Any] = dict(normal=normal, layer_thickness=c.layer_thickness, function=f)
@@ -62,7 +74,7 @@ def _conduction(deck: dk.Deck, model: Evaluator) -> HeatConduction:
         t.conductivity,
         float(density),
         t.specific_heat,
-        surface_correction=t.surface_correction,
+        correction=t.correction,
     )
 
 

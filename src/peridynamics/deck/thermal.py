@@ -17,11 +17,22 @@ class _OnSet(Strict):
     set: str
 
 
+class MirrorPlane(Strict):
+    """The boundary plane through ``point`` with ``normal`` (m) that a fictitious layer
+    mirrors the body across."""
+
+    point: list[Finite]
+    normal: list[Finite]
+
+
 class TemperatureBC(_OnSet):
-    """T = value * f(t) (K) held on the set."""
+    """T = value * f(t) (K) held on the set; with ``mirror`` the set is a fictitious
+    layer beyond that plane, ``T = 2 T_b - T(reflection)`` (second-order accurate
+    boundary temperature T_b on the plane; docs/theory_thermal.md)."""
 
     type: Literal["temperature"]
     value: Finite
+    mirror: MirrorPlane | None = None
     time_function: TimeFunctionSpec = ConstantTF(type="constant")
 
 
@@ -53,13 +64,15 @@ ThermalCondition = Annotated[TemperatureBC | HeatFluxBC | ConvectionBC, Field(di
 
 class Thermal(Strict):
     """Heat conduction: ``conductivity`` k (W/(m K)), ``specific_heat`` c_v
-    (J/(kg K), with ``material.density``), ``initial_temperature`` (K), the energy-method
-    ``surface_correction`` of the micro-conductivity, and the ``conditions``."""
+    (J/(kg K), with ``material.density``), ``initial_temperature`` (K), the
+    ``correction`` of the micro-conductivity (``surface``: the energy method per bond;
+    ``bulk``: one factor from the largest family, for bodies completed by mirrored
+    layers; ``none``: the analytic value), and the ``conditions``."""
 
     conductivity: PosFloat
     specific_heat: PosFloat
     initial_temperature: Finite = 0.0
-    surface_correction: bool = True
+    correction: Literal["surface", "bulk", "none"] = "surface"
     conditions: list[ThermalCondition] = []
 
 
@@ -91,7 +104,11 @@ def thermal_errors(deck: Any, sets: set[str]) -> Errors:
         path = f"thermal.conditions.{n}"
         if bc.set not in sets:
             errors.append((f"{path}.set", f"unknown node set {bc.set!r}; known: {sorted(sets)}"))
-        normal = getattr(bc, "normal", None)
-        if normal is not None and len(normal) != deck.dim:
-            errors.append((f"{path}.normal", f"needs {deck.dim} components"))
+        mirror = getattr(bc, "mirror", None)
+        vectors = {"normal": getattr(bc, "normal", None)}
+        if mirror is not None:
+            vectors = {"mirror.point": mirror.point, "mirror.normal": mirror.normal}
+        for key, vec in vectors.items():
+            if vec is not None and len(vec) != deck.dim:
+                errors.append((f"{path}.{key}", f"needs {deck.dim} components"))
     return errors

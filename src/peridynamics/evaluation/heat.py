@@ -91,6 +91,15 @@ def thermal_correction_factors(
     return bond_factors_from_point_ratios(bonds, ratios)
 
 
+def bulk_factor(bonds: Bonds, conductance: F, conductivity: float, n: int, dim: int) -> float:
+    """k over the mean effective conductivity (:func:`point_conductivity`) of the point
+    with the largest family: the one factor that removes the quadrature error of the
+    family sum in the bulk."""
+    i = int(np.argmax(np.diff(bonds.offsets)))
+    k_pt = point_conductivity(bonds, conductance, n, dim)[:, i]
+    return float(conductivity / np.mean(k_pt))
+
+
 class HeatConduction:
     """The conduction operator of a body: bond conductances, heat capacity, rate,
     stable step and the sparse matrix.
@@ -102,8 +111,11 @@ class HeatConduction:
     conductivity : float, k (W/(m K)).
     density : float or (n,) array, rho (kg/m^3).
     specific_heat : float or (n,) array, c_v (J/(kg K)).
-    surface_correction : bool
-        Scale the bonds by :func:`thermal_correction_factors` (default True).
+    correction : {"surface", "bulk", "none"}
+        ``surface``: scale the bonds by :func:`thermal_correction_factors` (the
+        default); ``bulk``: by one factor, k over the effective conductivity of the
+        largest family (the quadrature error of the family sum, for bodies whose
+        boundary families a fictitious layer completes); ``none``: the analytic kappa.
 
     Attributes
     ----------
@@ -119,15 +131,19 @@ class HeatConduction:
         conductivity: float,
         density: float | F,
         specific_heat: float | F,
-        surface_correction: bool = True,
+        correction: str = "surface",
     ) -> None:
         self.cloud, self.bonds = cloud, bonds
         self.conductivity = float(conductivity)
         n, dim = cloud.n_points, cloud.dim
         self.kappa = micro_conductivity(conductivity, dim, bonds.horizon, cloud.cross_section)
         g = self.kappa * bonds.bond_volume / bonds.bond_length
-        if surface_correction:
+        if correction == "surface":
             g = g * thermal_correction_factors(bonds, g, self.conductivity, n, dim)
+        elif correction == "bulk":
+            g = g * bulk_factor(bonds, g, self.conductivity, n, dim)
+        elif correction != "none":
+            raise ValueError(f"correction must be surface, bulk or none, got {correction!r}")
         self.conductance = np.ascontiguousarray(g, dtype=np.float64)
         self.capacity = np.broadcast_to(
             np.asarray(density, float) * np.asarray(specific_heat, float), (n,)

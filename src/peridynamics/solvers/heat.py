@@ -21,12 +21,19 @@ from numpy.typing import NDArray
 
 from peridynamics.evaluation.heat import HeatConduction
 from peridynamics.kernels import heat as kernels
-from peridynamics.loading.thermal import Convection, HeatSource, PrescribedTemperature
+from peridynamics.loading.thermal import (
+    Convection,
+    HeatSource,
+    MirroredTemperature,
+    PrescribedTemperature,
+)
 from peridynamics.solvers.base import StepResult
 from peridynamics.solvers.explicit import SimulationUnstable
 from peridynamics.state import State
 
 F = NDArray[np.float64]
+#: a held temperature: constant on its set, or a mirrored fictitious layer
+Held = PrescribedTemperature | MirroredTemperature
 
 
 class _HeatBase:
@@ -38,7 +45,7 @@ class _HeatBase:
         conduction: HeatConduction,
         model: Any = None,
         initial_temperature: float = 0.0,
-        temperatures: Sequence[PrescribedTemperature] = (),
+        temperatures: Sequence[Held] = (),
         sources: Sequence[HeatSource] = (),
         convection: Sequence[Convection] = (),
     ) -> None:
@@ -69,9 +76,13 @@ class _HeatBase:
         return s
 
     def apply_temperatures(self, temperature: F, t: float) -> None:
-        """Hold the prescribed temperatures at time ``t`` (s)."""
-        for c in self.temperatures:
-            c.apply(temperature, t)
+        """Hold the prescribed temperatures at time ``t`` (s); mirrored layers three
+        times (a corner's mirror is another layer's point, resolved in 2-D by the
+        second pass and in 3-D by the third)."""
+        mirrored = any(isinstance(c, MirroredTemperature) for c in self.temperatures)
+        for _ in range(3 if mirrored else 1):
+            for c in self.temperatures:
+                c.apply(temperature, t)
 
     def source(self, temperature: F, t: float, out: F) -> F:
         """Sources and convection at time ``t`` (s), W/m^3 (n,), into ``out``."""
@@ -131,7 +142,7 @@ class HeatSolver(_HeatBase):
         conduction: HeatConduction,
         model: Any = None,
         initial_temperature: float = 0.0,
-        temperatures: Sequence[PrescribedTemperature] = (),
+        temperatures: Sequence[Held] = (),
         sources: Sequence[HeatSource] = (),
         convection: Sequence[Convection] = (),
         time_step: float | None = None,
@@ -246,14 +257,43 @@ class SteadyHeatSolver(_HeatBase):
             raise ValueError(
                 "[solver.type] a steady state needs a prescribed temperature or convection"
             )
-        a_ff = a[free][:, free].tocsc()
-        rhs_f = rhs[free] - a[free][:, held] @ T[held]
-        T[free] = spla.spsolve(a_ff, rhs_f)
-        residual = float(
-            np.linalg.norm(a_ff @ T[free] - rhs_f) / max(float(np.linalg.norm(rhs_f)), 1e-300)
-        )
+        if any(isinstance(c, MirroredTemperature) for c in self.temperatures):
+            residual = self._solve_with_mirrors(a, rhs, T, t)
+        else:
+            a_ff = a[free][:, free].tocsc()
+            rhs_f = rhs[free] - a[free][:, held] @ T[held]
+            T[free] = spla.spsolve(a_ff, rhs_f)
+            residual = _relative(a_ff @ T[free] - rhs_f, rhs_f)
         state.t, state.step = t, state.step + 1
         return StepResult(converged=True, residual=residual)
+
+    def _solve_with_mirrors(self, a: sp.csr_matrix, rhs: F, T: F, t: float) -> float:
+        """All points as unknowns: the conduction rows of the free points and one
+        constraint row per held point (``T_i = T_b``, or ``T_i + T_m = 2 T_b`` for a
+        mirrored layer; the last condition on a point wins); SuperLU on the
+        (non-symmetric) system. Returns the relative residual."""
+        n = len(T)
+        rows: dict[int, tuple[list[int], list[float], float]] = {}
+        for c in self.temperatures:
+            tb = c.temperature(t)
+            if isinstance(c, MirroredTemperature):
+                for i, m in zip(c.nodes.tolist(), c.mirror.tolist(), strict=True):
+                    rows[i] = ([i], [1.0], tb) if i == m else ([i, m], [1.0, 1.0], 2 * tb)
+            else:
+                for i in c.nodes.tolist():
+                    rows[i] = ([i], [1.0], tb)
+        held = np.fromiter(rows, dtype=np.intp, count=len(rows))
+        keep = np.ones(n, bool)
+        keep[held] = False
+        body = sp.diags(keep.astype(float)) @ a  # the conduction rows of the free points
+        r = [i for i in rows for _ in rows[i][0]]
+        cols = [j for i in rows for j in rows[i][0]]
+        vals = [v for i in rows for v in rows[i][1]]
+        m = (body + sp.csr_matrix((vals, (r, cols)), shape=(n, n))).tocsc()
+        b = np.where(keep, rhs, 0.0)
+        b[held] = [rows[i][2] for i in held.tolist()]
+        T[:] = spla.spsolve(m, b)
+        return _relative(m @ T - b, b)
 
     def done(self, state: State) -> bool:
         """True after the solve."""
@@ -270,3 +310,8 @@ class SteadyHeatSolver(_HeatBase):
     def summary_fields(self, state: State) -> dict[str, Any]:
         """The stored heat relative to the initial temperature (J)."""
         return {"heat_stored_J": self.heat_balance(state)["heat_stored_J"]}
+
+
+def _relative(residual: F, rhs: F) -> float:
+    """|residual| / |rhs| (|rhs| at least 1e-300)."""
+    return float(np.linalg.norm(residual) / max(float(np.linalg.norm(rhs)), 1e-300))
