@@ -41,7 +41,8 @@ def main(out: Path, *overrides: str) -> float:
     x, temp, t = setup.cloud.x, state["T"], state.t
     out.mkdir(parents=True, exist_ok=True)
     fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(10, 4))
-    sc = ax0.scatter(x[:, 0] * 1e3, x[:, 1] * 1e3, c=temp - 273.15, s=4, cmap="inferno")
+    body = np.all((x > A) & (x < B), axis=1)  # not the fictitious (mirrored) layer
+    sc = ax0.scatter(x[body, 0] * 1e3, x[body, 1] * 1e3, c=temp[body] - 273.15, s=4, cmap="inferno")
     fig.colorbar(sc, ax=ax0, label="T (°C)")
     ax0.set(aspect="equal", xlabel="x (mm)", ylabel="y (mm)", title=f"t = {t:.2f} s")
     y0 = x[np.argmin(np.abs(x[:, 1] - 0.5 * (A + B))), 1]  # the row nearest the centre

@@ -4,6 +4,8 @@ solutions, the energy balance, the steady state and the deck."""
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 
@@ -223,3 +225,73 @@ def test_broken_bonds_do_not_conduct() -> None:
     t = np.where(cloud.x[:, 0] < 4.5e-3, 400.0, 300.0)
     out = hc.rate(t, intact, np.empty(cloud.n_points))
     assert np.all(out == 0.0)
+
+
+def test_convection_cools_towards_the_ambient_and_bounds_the_step() -> None:
+    """A plate at 400 K convecting on one edge to 300 K: the heat lost equals the
+    integral of h (T - T_inf) over the face (the sources' bookkeeping), and the stable
+    step includes h / l."""
+    cloud = grid((10, 5), 1e-3)
+    bonds = build_bonds(cloud, 3.015e-3)
+    hc = HeatConduction(cloud, bonds, 40.0, 7800.0, 450.0)
+    edge = np.flatnonzero(cloud.x[:, 0] > 9.5e-3)
+    from peridynamics.loading.thermal import convection_on_layer
+
+    cv = convection_on_layer(edge, 5e4, 300.0, cloud.x, 1e-3)
+    assert cv.layer == pytest.approx(1e-3)
+    solver = HeatSolver(hc, None, 400.0, convection=[cv], steps=300)
+    assert solver.stable_time_step < hc.stable_time_step(bonds.bond_intact)
+    s = run_solver(solver)
+    bal = solver.heat_balance(s)
+    assert bal["heat_in_J"] < 0
+    assert bal["heat_stored_J"] == pytest.approx(bal["heat_in_J"], rel=1e-10)
+    assert np.all((s["T"] > 300.0) & (s["T"] < 400.0 + 1e-9))
+
+
+DECK = """
+name: heat_deck
+geometry: {type: rectangle, size: [0.02, 0.01], thickness: 1.0e-3, plane: stress}
+discretisation: {spacing: 1.0e-3, horizon_factor: 3.015}
+material: {youngs_modulus: 70.0e9, density: 2700.0}
+node_sets:
+  left: {edge: {normal: [-1.0, 0.0]}}
+  right: {edge: {normal: [1.0, 0.0]}}
+thermal:
+  conductivity: 237.0
+  specific_heat: 900.0
+  initial_temperature: 300.0
+  conditions:
+    - {type: temperature, set: left, value: 400.0}
+    - {type: convection, set: right, film: 100.0, ambient: 300.0}
+solver: {type: heat_steady}
+output: {fields: [temperature]}
+"""
+
+
+def test_deck_steady_run_and_refusals() -> None:
+    """The deck builds a steady heat solve (T between the ambient and the hot edge);
+    the Warp backend, a thermal section with a mechanical solver and mechanical
+    conditions with a heat solver are refused by key."""
+    from peridynamics.build.simulation import SimulationSetup
+    from peridynamics.deck import DeckError, parse_deck, yaml_load
+
+    def parse(text: str) -> Any:
+        return parse_deck(yaml_load(text))
+
+    deck = parse(DECK)
+    setup = SimulationSetup.from_deck(deck)
+    s = run_solver(setup.solver)
+    assert s["T"].min() > 300.0 and s["T"].max() == pytest.approx(400.0)
+    for text, key in (
+        (DECK.replace("{type: heat_steady}", "{type: heat, steps: 5, backend: warp}"), "backend"),
+        (DECK.replace("{type: heat_steady}", "{steps: 5}"), "thermal"),
+        (
+            DECK.replace(
+                "solver: {type: heat_steady}",
+                "boundary_conditions: [{type: fixed, set: left}]\nsolver: {type: heat_steady}",
+            ),
+            "boundary_conditions",
+        ),
+    ):
+        with pytest.raises(DeckError, match=key):
+            parse(text)
