@@ -214,6 +214,15 @@ def test_steady_state_with_linear_boundary_is_linear() -> None:
     solver = SteadyHeatSolver(hc, None, 0.0, temps)
     s = run_solver(solver)
     assert np.max(np.abs(s["T"] - linear)) < 1e-9 * 300
+    mirrored = []  # the constraint rows of mirrored layers: uniform 350 K
+    for a in range(2):
+        for side, sel in ((0.0, x[:, a] <= 1e-9), (n * 1e-3, x[:, a] >= n * 1e-3 - 1e-9)):
+            nodes = np.flatnonzero(sel)
+            normal = np.eye(2)[a] * (1 if side else -1)
+            mirror = mirror_points(nodes, x, 1e-3, np.full(2, side), normal)
+            mirrored.append(MirroredTemperature(nodes, mirror, 350.0))
+    s = run_solver(SteadyHeatSolver(hc, None, 0.0, mirrored))
+    assert np.max(np.abs(s["T"] - 350.0)) < 1e-9 * 350
 
 
 def test_broken_bonds_do_not_conduct() -> None:
