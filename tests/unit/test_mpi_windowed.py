@@ -75,7 +75,8 @@ conds = []
 for c in [*body, *kin]:
     conds.append((type(c).__name__, {f.name: getattr(c, f.name) for f in fields(c)}, gid))
 out = {"ids": gid[:n], "x": cloud.x[:n], "volume": cloud.volume[:n], "sets": sets,
-       "conds": conds, "how": parts["set_up"]["how"], "n_global": parts["global_cloud"].n_points}
+       "conds": conds, "how": parts["set_up"]["how"], "n_global": parts["global_cloud"].n_points,
+       "size": cloud.size}
 pickle.dump(out, open(f"{sys.argv[2]}/rank{comm.rank}.pkl", "wb"))
 """
 
@@ -100,6 +101,7 @@ def test_three_ranks_make_the_serial_points_sets_and_loads(tmp_path: Path) -> No
     body, kin, _ = build_conditions(deck, serial)
     assert {g["how"] for g in got} == {"windowed"}
     assert {g["n_global"] for g in got} == {serial.n_points}
+    assert {g["size"] for g in got} == {serial.size}  # blow-up checks: the body's size
     ids = np.concatenate([g["ids"] for g in got])
     np.testing.assert_array_equal(np.sort(ids), np.arange(serial.n_points))  # a split
     for g in got:

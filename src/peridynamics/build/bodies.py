@@ -25,13 +25,13 @@ from peridynamics.bodies.composite import (
     sub_cloud,
 )
 from peridynamics.bodies.rigid import RigidBody, RigidSystem
-from peridynamics.communicator import active_comm
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.build.errors import SetupError
 from peridynamics.build.geometry import geometry_cloud
 from peridynamics.build.loads import time_function
 from peridynamics.build.materials import build_damage, build_material
 from peridynamics.build.regions import to_region
+from peridynamics.communicator import active_comm
 from peridynamics.evaluation import Evaluator
 from peridynamics.geometry.cloud import PointCloud
 

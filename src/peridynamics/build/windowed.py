@@ -103,6 +103,7 @@ def agreed(comm: Any, work: Callable[[], T]) -> T:
 def local_cloud(deck: dk.Deck, lattice: Lattice, part: WindowedPart, comm: Any) -> PointCloud:
     """This rank's points with the deck's node sets (members held here, ghosts too)."""
     lay = part.layout
+    lo, hi = _bounds(comm, part.x[: lay.n_owned])
     cloud = PointCloud(
         x=part.x,
         volume=np.full(lay.n_local, lattice.cell_volume),
@@ -111,10 +112,9 @@ def local_cloud(deck: dk.Deck, lattice: Lattice, part: WindowedPart, comm: Any) 
         plane=lattice.plane,
         grid_fit=lattice.grid_fit,
         global_ids=lay.local_ids.astype(np.int64),
+        body_size=float(max(np.max(hi - lo), lattice.spacing)),
     )
     sets: dict[str, NDArray[np.intp]] = {"all": np.arange(lay.n_local)}
-    owned_x = part.x[: lay.n_owned]
-    lo, hi = _bounds(comm, owned_x)
     visiting: set[str] = set()
 
     def resolve(name: str) -> NDArray[np.intp]:

@@ -101,6 +101,10 @@ class PointCloud:
         Under MPI, the global id of every point of a rank's part of the body (owned
         points, then ghosts; :mod:`peridynamics.parallel.local`); ``None`` in a serial
         run (the ids are ``0 .. n_points - 1``). Random fields are drawn by global id.
+    body_size : float, optional
+        Under MPI, the largest extent of the whole body (m), which :attr:`size` returns
+        for a rank's part (blow-up checks judge every rank by the body's size); ``None``
+        in a serial run.
 
     Examples
     --------
@@ -122,6 +126,7 @@ class PointCloud:
     irregular: bool = False
     grid_fit: tuple[GridFit, ...] = ()
     global_ids: NDArray[np.int64] | None = None
+    body_size: float | None = None
 
     def __post_init__(self) -> None:
         x = np.ascontiguousarray(np.atleast_2d(np.asarray(self.x, dtype=np.float64)))
@@ -174,7 +179,10 @@ class PointCloud:
 
     @property
     def size(self) -> float:
-        """Largest extent of the body (m), the reference length for blow-up checks."""
+        """Largest extent of the body (m), the reference length for blow-up checks (the
+        whole body's, ``body_size``, for a rank's part under MPI)."""
+        if self.body_size is not None:
+            return self.body_size
         lo, hi = self.bounds
         return float(max(np.max(hi - lo), self.spacing))
 

@@ -89,6 +89,7 @@ def local_cloud(cloud: PointCloud, layout: Layout) -> PointCloud:
         volume=cloud.volume[ids],
         node_sets=sets,
         global_ids=ids.astype(np.int64),
+        body_size=cloud.size,
     )
 
 

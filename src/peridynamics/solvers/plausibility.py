@@ -92,12 +92,12 @@ def _material_finding(model: Any) -> Finding | None:
 def critical_damping(model: Any) -> tuple[float, float, float] | None:
     """(c_crit = 2 omega_1 (1/s), c (m/s), L (m)): critical mass damping of the first
     axial mode omega_1 = pi c / L of the body; None without a material. Under MPI, L is
-    the extent of this rank's part (shorter: a higher, more lenient c_crit), as the
-    findings make no collective call (an unstable point is found on one rank)."""
+    the whole body's extent too (``PointCloud.body_size``, known from set-up), so every
+    rank judges as the serial run does without a collective call."""
     c = _wave_speed(model)
     if c is None:
         return None
-    size = float(model.cloud.size)  # this rank's part under MPI: no collective call here
+    size = float(model.cloud.size)  # the whole body's (PointCloud.body_size under MPI)
     return 2.0 * math.pi * c / size, c, size
 
 
