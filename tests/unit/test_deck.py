@@ -723,9 +723,9 @@ MALFORMED = [
     ),
     (
         "output-field",
-        setp("output.fields", ["damage", "stress"]),
+        setp("output.fields", ["damage", "vorticity"]),
         "output.fields.1",
-        "'force_density', 'rotation' or 'moment'",
+        "'principal_direction' or 'temperature'",
     ),
     (
         "crack-tip-threshold-1",
