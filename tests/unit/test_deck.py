@@ -699,7 +699,7 @@ MALFORMED = [
     ),
     (
         "probe-quantity",
-        setp("output.probes.0.quantity", "stress"),
+        setp("output.probes.0.quantity", "vorticity"),
         "output.probes.0.quantity",
         "'displacement', 'velocity', 'force_density', 'reaction_force'",
     ),

@@ -52,6 +52,8 @@ output:
   plot: none
   probes:
     - {name: right_ux, quantity: displacement, set: right, component: x}
+    - {name: sxx, quantity: stress, set: all, component: xx}
+    - {name: vm_max, quantity: von_mises, set: right, reduce: max}
 """
 
 

@@ -81,6 +81,25 @@ def probe_errors(deck: Any, sets: set[str]) -> Errors:
                     "has point rotations",
                 )
             )
+        stress_kind = probe.quantity in ("stress", "strain", "von_mises", "pressure",
+                                         "principal_stress")  # fmt: skip
+        if stress_kind and deck.material.model == "micropolar":
+            errors.append(
+                (
+                    f"output.probes.{n}.quantity",
+                    f"{probe.quantity} needs the point stress, which micropolar models do not "
+                    "define (docs/stress.md); probe displacement, rotation or moment",
+                )
+            )
+        comp = {"xx": "x", "yy": "y", "zz": "z", "xy": "y", "yz": "z", "xz": "z"}
+        if probe.component in comp and "xyz".index(comp[probe.component]) >= dim:
+            errors.append(
+                (
+                    f"output.probes.{n}.component",
+                    f"{probe.component} needs a {'xyz'.index(comp[probe.component]) + 1}-D "
+                    f"model (this one is {dim}-D)",
+                )
+            )
         if probe.set not in sets and probe.quantity not in ("difference", "sum"):
             errors.append(
                 (f"output.probes.{n}.set", f"unknown node set {probe.set!r}; known: {sorted(sets)}")

@@ -36,6 +36,11 @@ UNITS = {
     "section_stress": "Pa",
     "max_stretch": "-",
     "damage": "-",
+    "stress": "Pa",
+    "strain": "-",
+    "von_mises": "Pa",
+    "pressure": "Pa",
+    "principal_stress": "Pa",
 }
 
 

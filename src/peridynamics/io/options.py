@@ -64,8 +64,19 @@ Quantity = Literal[
     "section_stress",
     "difference",
     "sum",
+    "stress",
+    "strain",
+    "von_mises",
+    "pressure",
+    "principal_stress",
 ]
 DERIVED = ("difference", "sum")
+#: probe quantities computed from the model's point stress and strain (``tensor``: with
+#: a component xx, yy, zz, xy, yz or xz; the others are one number per point)
+TENSOR_QUANTITIES = ("stress", "strain")
+STRESS_QUANTITIES = ("stress", "strain", "von_mises", "pressure", "principal_stress")
+#: component of a 3 x 3 tensor -> its index in the row-major (n, 9) rows
+TENSOR_COMPONENTS = {"xx": 0, "yy": 4, "zz": 8, "xy": 1, "yz": 5, "xz": 2}
 EventName = Literal["first_damage", "peak_load", "fracture"]
 PlotKind = Literal["damage", "deformed", "probes", "energies", "stress_strain"]
 PLOT_KINDS = ("damage", "deformed", "probes", "energies", "stress_strain")
@@ -90,13 +101,16 @@ class Probe(Strict):
     Derived probes combine probes listed before them: ``difference`` (``of: [a, b]``:
     a - b, e.g. a crack-mouth opening from two displacement probes) and ``sum``
     (``of: [a, b, ...]``). ``reaction_force`` with ``body: NAME`` is the contact force
-    on a rigid body (its reaction, N) instead of the force on a node set.
+    on a rigid body (its reaction, N) instead of the force on a node set. ``stress`` and
+    ``strain`` take a tensor component (``xx`` ... ``xz``; ``x``, ``y``, ``z`` read as
+    ``xx``, ``yy``, ``zz``); ``von_mises``, ``pressure`` and ``principal_stress`` (the
+    largest principal stress) are one number per point.
     """
 
     name: str = Field(min_length=1)
     quantity: Quantity
     set: str = "all"
-    component: Literal["x", "y", "z", "magnitude"] = "x"
+    component: Literal["x", "y", "z", "magnitude", "xx", "yy", "zz", "xy", "yz", "xz"] = "x"
     reduce: Literal["mean", "sum", "max", "min"] | None = None
     position: Finite | None = None  # section_stress: x of the section (1-D, m)
     of: list[str] | None = None  # derived probes: the probes combined
@@ -118,6 +132,16 @@ class Probe(Strict):
             raise ValueError("[of] difference takes exactly two probes: of: [a, b] gives a - b")
         if self.quantity == "sum" and self.of is not None and len(self.of) < 2:
             raise ValueError("[of] sum takes two or more probes")
+        if self.component in TENSOR_COMPONENTS and self.quantity not in TENSOR_QUANTITIES:
+            raise ValueError(
+                f"[component] {self.component} is a tensor component: only stress and strain "
+                "take one; vectors take x, y, z or magnitude"
+            )
+        if self.quantity in TENSOR_QUANTITIES and self.component == "magnitude":
+            raise ValueError(
+                "[component] stress and strain take xx, yy, zz, xy, yz or xz (the equivalent "
+                "stress is quantity von_mises)"
+            )
         if self.body is not None and self.quantity != "reaction_force":
             raise ValueError("[body] only reaction_force takes a rigid body (body: NAME)")
         return self

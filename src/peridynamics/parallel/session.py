@@ -180,10 +180,12 @@ class Session:
             return exc
         return self._to_root(np.asarray(value))
 
-    def _rows(self, what: str, ids: NDArray[np.int64]) -> NDArray | None:
+    def _rows(self, what: Any, ids: NDArray[np.int64]) -> NDArray | None:
         """The rows of the points ``ids`` (global, sorted) of a per-point quantity
-        (:meth:`peridynamics.io.observers.base.RunContext.rows`), each from its owner, on
-        rank 0 in the order of ``ids``."""
+        (:meth:`peridynamics.io.observers.base.RunContext.rows`: a State field's name,
+        ``damage``, ``volume``, ``max_stretch``, or a function of (model, state) giving
+        every local point's value), each from its owner, on rank 0 in the order of
+        ``ids``."""
         m, s, n = self.model, self._local(), self.comm.n_owned
         owned = np.asarray(m.cloud.global_ids)[:n]
         pos, hit = find_sorted(owned, ids)
@@ -194,6 +196,8 @@ class Session:
             values = np.asarray(m.cloud.volume)[local]
         elif what == "max_stretch":
             values = np.asarray(m.largest_stretch(s))[local]
+        elif callable(what):  # a field computed from (model, state): stress, strain
+            values = np.asarray(what(m, s))[local]
         else:
             values = np.asarray(s[what])[local]
         parts = self.comm.gather_root((ids[hit], values))

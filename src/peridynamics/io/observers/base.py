@@ -13,6 +13,7 @@ the run loop. This module imports no concrete observer.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -20,6 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.io.checkpoint import write_checkpoint
+from peridynamics.io.observers.point_fields import POINT_FIELDS, point_field
 from peridynamics.io.options import Output
 from peridynamics.solvers.base import StepResult
 from peridynamics.state import State
@@ -133,17 +135,21 @@ class RunContext:
 
     def rows(self, s: State, what: str, nodes: NDArray[np.intp]) -> NDArray:
         """The rows ``nodes`` (sorted point ids) of a per-point quantity of ``s``: a
-        State field (``u``, ``force``, ``theta`` ...), ``damage``, ``volume`` (m^3) or
-        ``max_stretch``. Under MPI only those rows reach rank 0 (the session's ``rows``
-        request), not the whole field."""
+        State field (``u``, ``force``, ``theta`` ...), ``damage``, ``volume`` (m^3),
+        ``max_stretch`` or a computed point field (``stress``, ``strain``, ``von_mises``,
+        ... of :mod:`peridynamics.io.observers.point_fields`). Under MPI only those rows
+        reach rank 0 (the session's ``rows`` request), not the whole field."""
         if self.session is not None:
-            return self.session.call("rows", what, np.asarray(nodes, dtype=np.int64))
+            how: Any = partial(point_field, what) if what in POINT_FIELDS else what
+            return self.session.call("rows", how, np.asarray(nodes, dtype=np.int64))
         if what == "damage":
             return self.damage(s)[nodes]
         if what == "volume":
             return self.model.cloud.volume[nodes]
         if what == "max_stretch":
             return self.model.largest_stretch(s)[nodes]
+        if what in POINT_FIELDS:  # stress, strain and what derives from them
+            return point_field(what, self.model, s)[nodes]
         return s[what][nodes]
 
     def max_damage(self, s: State) -> float:

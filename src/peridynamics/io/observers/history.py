@@ -11,7 +11,12 @@ from numpy.typing import NDArray
 
 from peridynamics.analysis.crack import crack_tip
 from peridynamics.io.observers.base import COMP, Observer, RunContext, RunOptions
-from peridynamics.io.options import Probe
+from peridynamics.io.options import (
+    STRESS_QUANTITIES,
+    TENSOR_COMPONENTS,
+    TENSOR_QUANTITIES,
+    Probe,
+)
 from peridynamics.solvers.base import StepResult
 from peridynamics.state import State
 
@@ -122,6 +127,14 @@ class History(Observer):
                 raise ValueError(f"probe {probe.name!r}: {q} needs material.model micropolar")
             field = ctx.rows(s, "theta" if q == "rotation" else "moment", nodes)
             return _reduce(field[:, 0], probe.reduce or "mean", m.comm)
+        if q in STRESS_QUANTITIES:  # Pa (strain: 1), from the point stress
+            rows = ctx.rows(s, q, nodes)
+            if q in TENSOR_QUANTITIES:
+                comp = {"x": "xx", "y": "yy", "z": "zz"}.get(probe.component, probe.component)
+                rows = rows[:, TENSOR_COMPONENTS[comp]]
+            elif q == "principal_stress":
+                rows = rows[:, 0]  # the largest
+            return _reduce(rows, probe.reduce or "mean", m.comm)
         arr = ctx.rows(
             s, {"displacement": "u", "velocity": "v", "force_density": "force"}[q], nodes
         )

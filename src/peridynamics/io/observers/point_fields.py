@@ -63,3 +63,9 @@ def point_fields(names: list[str], model: Any, s: State) -> dict[str, F]:
 
 
 __all__ = ["POINT_FIELDS", "point_fields"]
+
+
+def point_field(name: str, model: Any, s: State) -> F:
+    """One field of :data:`POINT_FIELDS` at state ``s``, every local point (a probe's
+    rows; module level, so a decomposed run's ranks can be asked for it)."""
+    return point_fields([name], model, s)[name]
