@@ -1,12 +1,12 @@
-"""Bond-based peridynamic heat conduction (Bobaru & Duangpanya (2010), eqs 9, 13, 17;
-(2012), eqs 3-6): the conduction operator on the mechanics' bond list.
+"""Bond-based peridynamic heat conduction (Bobaru & Duangpanya (2010,
+2012)): the conduction operator on the mechanics' bond list.
 
     rho c_v dT_i/dt = sum_j kappa lambda_ij mu_ij (T_j - T_i) / |xi| beta_ij V_j + s_i
 
 with the constant micro-conductivity ``kappa`` from the classical conductivity ``k``
 (W/(m K)) (:func:`micro_conductivity`), ``beta_ij V_j`` the partial volume of the bond
 list (:mod:`peridynamics.bonds.partial_volume`), ``mu_ij`` the bond's intact flag (a
-broken bond conducts no heat: an insulated crack, Bobaru & Duangpanya (2012), sec. 3)
+broken bond conducts no heat: an insulated crack, Bobaru & Duangpanya (2012))
 and ``lambda_ij`` the surface correction (:func:`thermal_correction_factors`).
 
 The operator ``L`` (``(L T)_i = sum_j G_ij (T_j - T_i)``) times the point volumes,
@@ -44,7 +44,7 @@ def micro_conductivity(
     * 2-D, plate of thickness h:     kappa = 6 k / (pi h delta^3)
     * 3-D:                           kappa = 6 k / (pi delta^4)
 
-    (Bobaru & Duangpanya (2010), eq. 13 (1-D); (2012), eq. 6 (2-D); the 3-D value by
+    (the 1-D and 2-D values as in Bobaru & Duangpanya (2010, 2012); the 3-D value by
     the same integral.)
 
     Parameters
@@ -80,8 +80,8 @@ def thermal_correction_factors(
     bonds: Bonds, conductance: F, conductivity: float, n: int, dim: int
 ) -> F:
     """Surface-correction factors per bond (n_bonds,) by the energy method
-    (Madenci & Oterkus (2014), ch. 4, for mechanics; Oterkus, Madenci & Agwai (2014),
-    sec. 4 for heat): the point ratios ``lambda_a,i = k / K_aa,i``
+    (Madenci & Oterkus (2014) for mechanics; Oterkus, Madenci & Agwai (2014) for
+    heat): the point ratios ``lambda_a,i = k / K_aa,i``
     (:func:`point_conductivity`) under a unit gradient along each axis a, combined into
     a bond factor as the mechanics' (the ellipse of the end points' means:
     :func:`peridynamics.bonds.surface.bond_factors_from_point_ratios`)."""

@@ -1,5 +1,5 @@
-"""Bond-based peridynamic heat conduction kernels (Bobaru & Duangpanya (2010), eq. 9;
-(2012), eq. 3).
+"""Bond-based peridynamic heat conduction kernels (Bobaru & Duangpanya (2010,
+2012)).
 
 Every Numba kernel here has a NumPy twin in :mod:`peridynamics.kernels.reference_heat`
 that the tests compare against. They gather over each point's family in the directed

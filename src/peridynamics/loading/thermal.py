@@ -43,7 +43,7 @@ class MirroredTemperature:
     T_b = value * f(t): ``T_i = 2 T_b(t) - T_m(i)`` on ``nodes`` with ``mirror`` the
     point at the reflection of each (a point on the plane takes T_b). It extends the
     solution oddly about T_b, the smooth extension of a solution with T = T_b on the
-    plane (Oterkus, Madenci & Agwai (2014), sec. 5, fictitious boundary layer), which a
+    plane (the fictitious boundary layer of Oterkus, Madenci & Agwai (2014)), which a
     constant layer is not: the error against the local solution falls like delta^2
     instead of delta (docs/theory_thermal.md)."""
 
