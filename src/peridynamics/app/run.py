@@ -325,6 +325,8 @@ class RunLoop:
         for name in ("interface_intact", "bond_kappa"):  # several bodies, softening bonds
             if name in s:
                 extra_fields[name] = s[name]
+        if "T" in s:  # a heat solver's temperature (K)
+            extra_fields["temperature"] = s["T"]
         save_npz(
             ctx.out / "final_state.npz",
             u=s.u,

@@ -91,6 +91,19 @@ def probe_errors(deck: Any, sets: set[str]) -> Errors:
                     "define (docs/stress.md); probe displacement, rotation or moment",
                 )
             )
+        heat = getattr(deck.solver, "type", "") in ("heat", "heat_steady")
+        if (probe.quantity == "temperature") != heat and probe.quantity not in (
+            "difference",
+            "sum",
+        ):
+            errors.append(
+                (
+                    f"output.probes.{n}.quantity",
+                    "temperature needs a heat solver (solver.type heat or heat_steady)"
+                    if heat is False
+                    else f"a heat solver records temperature, not {probe.quantity}",
+                )
+            )
         comp = {"xx": "x", "yy": "y", "zz": "z", "xy": "y", "yz": "z", "xz": "z"}
         if probe.component in comp and "xyz".index(comp[probe.component]) >= dim:
             errors.append(

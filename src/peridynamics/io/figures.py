@@ -41,6 +41,7 @@ UNITS = {
     "von_mises": "Pa",
     "pressure": "Pa",
     "principal_stress": "Pa",
+    "temperature": "K",
 }
 
 

@@ -69,6 +69,7 @@ Quantity = Literal[
     "von_mises",
     "pressure",
     "principal_stress",
+    "temperature",
 ]
 DERIVED = ("difference", "sum")
 #: probe quantities computed from the model's point stress and strain (``tensor``: with

@@ -127,6 +127,8 @@ class History(Observer):
                 raise ValueError(f"probe {probe.name!r}: {q} needs material.model micropolar")
             field = ctx.rows(s, "theta" if q == "rotation" else "moment", nodes)
             return _reduce(field[:, 0], probe.reduce or "mean", m.comm)
+        if q == "temperature":  # K, the heat solvers' State field T
+            return _reduce(ctx.rows(s, "T", nodes), probe.reduce or "mean", m.comm)
         if q in STRESS_QUANTITIES:  # Pa (strain: 1), from the point stress
             rows = ctx.rows(s, q, nodes)
             if q in TENSOR_QUANTITIES:
