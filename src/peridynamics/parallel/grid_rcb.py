@@ -106,7 +106,7 @@ def box_owner(boxes: Sequence[Box], index: NDArray[np.integer]) -> NDArray[np.in
 def mask_layer_counts(
     masks: NDArray[np.bool_], first_slab: int, requests: Sequence[tuple[Box, int]]
 ) -> list[NDArray[np.int64]]:
-    """The counts of :data:`LayerCounts` from the kept-point masks of the slabs
+    """The counts of ``LayerCounts`` from the kept-point masks of the slabs
     ``first_slab ..`` of the first axis, shape ``(slabs, *shape[1:])`` (a rank's share:
     sum the ranks' counts for the body's)."""
     out = []
