@@ -94,6 +94,30 @@ def build_cloud(deck: dk.Deck) -> PointCloud:
         "all": np.arange(cloud.n_points),
         **body_sets,
     }
+
+    def select(name: str, spec: dk.RegionSpec) -> tuple[NDArray[np.intp], int]:
+        try:
+            idx = cloud.select(to_region(spec, sets, cloud.spacing))
+        except ValueError as exc:
+            raise SetupError(f"node_sets.{name}", str(exc)) from None
+        return idx, int(idx.size)
+
+    resolve_node_sets(deck, sets, select, cloud.bounds)
+    warn_horizon(deck, *cloud.bounds, cloud.n_points, cloud.spacing)
+    return cloud.with_node_sets(**sets)
+
+
+def resolve_node_sets(
+    deck: dk.Deck,
+    sets: dict[str, NDArray[np.intp]],
+    select: Callable[[str, dk.RegionSpec], tuple[NDArray[np.intp], int]],
+    bounds: tuple[NDArray[np.float64], NDArray[np.float64]],
+) -> None:
+    """Add every node set of the deck to ``sets`` (in place), each after the sets its
+    region names. ``select(name, spec)`` gives a set's indices and its number of points
+    in the whole body (a rank counts the owned ones of every rank); SetupError for a
+    cycle of references and for a set that selects no point (``bounds``: the corners of
+    the whole body, m, for the message)."""
     visiting: set[str] = set()
 
     def resolve(name: str) -> NDArray[np.intp]:
@@ -104,24 +128,19 @@ def build_cloud(deck: dk.Deck) -> PointCloud:
         visiting.add(name)
         spec = deck.node_sets[name]
         collect_refs(spec, resolve)
-        try:
-            idx = cloud.select(to_region(spec, sets, cloud.spacing))
-        except ValueError as exc:
-            raise SetupError(f"node_sets.{name}", str(exc)) from None
-        if idx.size == 0:
+        idx, total = select(name, spec)
+        if total == 0:
+            lo, hi = bounds
             raise SetupError(
                 f"node_sets.{name}",
                 "selects no point; check the region against the geometry "
-                f"(points span {cloud.bounds[0].tolist()} .. "
-                f"{cloud.bounds[1].tolist()} m)",
+                f"(points span {np.asarray(lo).tolist()} .. {np.asarray(hi).tolist()} m)",
             )
         sets[name] = idx
         return idx
 
     for name in deck.node_sets:
         resolve(name)
-    warn_horizon(deck, *cloud.bounds, cloud.n_points, cloud.spacing)
-    return cloud.with_node_sets(**sets)
 
 
 def collect_refs(spec: dk.RegionSpec, resolve: Callable[[str], Any]) -> None:

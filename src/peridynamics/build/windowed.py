@@ -33,7 +33,7 @@ from numpy.typing import NDArray
 
 from peridynamics import deck as dk
 from peridynamics.build.bodies import has_bodies
-from peridynamics.build.cloud import collect_refs, deck_notches
+from peridynamics.build.cloud import deck_notches, resolve_node_sets
 from peridynamics.build.errors import SetupError
 from peridynamics.build.loads import build_conditions
 from peridynamics.build.regions import IndexSet, to_region
@@ -115,31 +115,15 @@ def local_cloud(deck: dk.Deck, lattice: Lattice, part: WindowedPart, comm: Any) 
         body_size=float(max(np.max(hi - lo), lattice.spacing)),
     )
     sets: dict[str, NDArray[np.intp]] = {"all": np.arange(lay.n_local)}
-    visiting: set[str] = set()
 
-    def resolve(name: str) -> NDArray[np.intp]:
-        if name in sets:
-            return sets[name]
-        if name in visiting:
-            raise SetupError(f"node_sets.{name}", "node sets refer to each other in a cycle")
-        visiting.add(name)
-        spec = deck.node_sets[name]
-        collect_refs(spec, resolve)
+    def select(name: str, spec: dk.RegionSpec) -> tuple[NDArray[np.intp], int]:
         key = f"node_sets.{name}"
         region = agreed(comm, lambda: _region(spec, sets, cloud.spacing, key))
         region = map_leaves(region, lambda r: _global(r, comm, cloud, lay.n_owned, key))
         idx = cloud.select(region)
-        if comm.allreduce(int(np.count_nonzero(idx < lay.n_owned))) == 0:
-            raise SetupError(
-                key,
-                "selects no point; check the region against the geometry "
-                f"(points span {lo.tolist()} .. {hi.tolist()} m)",
-            )
-        sets[name] = idx
-        return idx
+        return idx, int(comm.allreduce(int(np.count_nonzero(idx < lay.n_owned))))
 
-    for name in deck.node_sets:
-        resolve(name)
+    resolve_node_sets(deck, sets, select, (lo, hi))
     return cloud.with_node_sets(**sets)
 
 
