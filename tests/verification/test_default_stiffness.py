@@ -7,9 +7,11 @@ the interior points (farther than one horizon from every face in 3-D, two in 2-D
 
 Measured (AMD EPYC, 2 cores; see docs/theory_bond_based.md): plane stress E 1.006 and
 nu 0.3394 (1/3 + 1.8 %); plane strain 1.006 x E / (1 - nu^2) and nu_2D = 0.3394 (the
-in-plane ratio nu / (1 - nu) of nu = 1/4); 3-D E 0.993 and nu 0.2717, the lattice value
-at delta = 3.015 dx (the continuum 1/4 is reached only as m grows, see the table in
-docs/theory_bond_based.md). Without the correction the same runs give 0.842, 0.898 and
+in-plane ratio nu / (1 - nu) of nu = 1/4); 3-D E 0.993 and nu 0.2717 on this 14-cell box,
+tending to the cubic-lattice values E 0.962 and nu 0.269 of delta = 3.015 dx as the box
+widens (0.971 and 0.269 at 36 cells; the continuum 1/4 holds only at some m, see
+"The 3-D lattice at the defaults" in docs/theory_bond_based.md and the verify case
+pmb_box_moduli). Without the correction the same runs give 0.842, 0.898 and
 0.752 of the modulus.
 """
 

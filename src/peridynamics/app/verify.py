@@ -68,11 +68,13 @@ def run_one(case: Case, tier: str, out: Path) -> dict[str, Any]:
         deck = _load(case, tier)
         fingerprint = _fingerprint(case, tier, deck.model_dump(mode="json", by_alias=True))
         summary, record["reused"] = _run_deck(deck, folder, fingerprint)
+        summary = {**summary, "folder": str(folder)}  # checks that read the final fields
         if case.companion is not None:  # the same problem by another scheme
             other = _load(case, tier, case.companion)
             dump = other.model_dump(mode="json", by_alias=True)
             sub = folder / "companion"
             companion, _ = _run_deck(other, sub, _fingerprint(case, tier, dump))
+            companion["folder"] = str(sub)
             _write_record(sub, {"fingerprint": _fingerprint(case, tier, dump)})
             summary = {**summary, "companion": companion}
             if companion.get("status", "completed") != "completed":

@@ -4,7 +4,8 @@ from this code (closed-form solutions, published observations), each with its so
 and a tolerance.
 
 A case is data: the example, the overrides of each tier, and its checks. A check reads
-the run's ``summary.json`` mapping and returns the measured value; the reference is a
+the run's ``summary.json`` mapping (with ``"folder"``, the run's folder, for a check
+that reads the final fields) and returns the measured value; the reference is a
 number computed from the deck's own parameters (so an override that changes E also
 changes the reference), never a number an earlier run of this code printed.
 """
@@ -17,6 +18,8 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+
+from peridynamics.app import verify_moduli as _mod
 
 Summary = dict[str, Any]
 
@@ -195,6 +198,41 @@ _FDM = (
 #: turns it off for Lu & Wang's uncorrected delta = 3 dx
 _NEAREST = ("discretisation.horizon_factor=1", "discretisation.surface_correction=true")
 
+_LATTICE = (
+    "the cubic lattice of the family's fourth moment r = M_xxyy/M_xxxx: nu = r/(1+r), "
+    "C11 = 1.2 E0 (Cauchy relation C12 = C44, Born & Huang 1954; not the "
+    "isotropic nu = 1/4 of Silling 2000 at this m)"
+)
+_LPS_NU = "the deck's Poisson ratio (LPS, Silling et al. 2007), interior of a free box"
+
+
+def _box(n: tuple[int, int, int]) -> str:
+    """The ``geometry.size`` override of a box of n cells of 1 mm."""
+    return "geometry.size=[" + ", ".join(f"{k * 1e-3:g}" for k in n) + "]"
+
+
+def _lps_case(nu: float, quick: tuple[int, int, int]) -> Case:
+    """An LPS box at Poisson ratio ``nu``: interior strain ratio and modulus."""
+    return Case(
+        f"lps_box_nu_{nu:g}",
+        f"the interior of a free LPS box under uniaxial traction at the defaults has the "
+        f"nominal E and nu = {nu:g}",
+        "box_moduli_3d/lps",
+        quick=(f"material.poisson_ratio={nu}", _box(quick)),
+        full=(f"material.poisson_ratio={nu}", _box((60, 24, 24))),
+        checks=(
+            Check(
+                "interior strain ratio -(eps_yy + eps_zz)/(2 eps_xx)", "-", _mod.interior_nu,
+                lambda i: float(i["material"]["poisson_ratio"]), _LPS_NU, rel=0.02,
+            ),
+            Check(
+                "interior modulus sigma/(eps_xx E0)", "-", _mod.interior_e_ratio,
+                lambda i: 1.0, "Hooke's law, uniaxial stress", rel=0.02,
+            ),
+        ),
+    )  # fmt: skip
+
+
 _PLATE_CHECKS = (
     Check(
         "elongation between the loaded rows", "m",
@@ -250,6 +288,27 @@ CASES: tuple[Case, ...] = (
             ),
         ),
     ),
+    Case(
+        "pmb_box_moduli",
+        "the interior of a free PMB box at the defaults (delta = 3.015 dx) has the moduli "
+        "of its cubic lattice (nu 0.269, E 0.962 E0, not 1/4 and E0)",
+        "box_moduli_3d",
+        quick=(_box((40, 24, 24)),),
+        full=(_box((60, 36, 36)),),
+        checks=(
+            Check(
+                "interior strain ratio -(eps_yy + eps_zz)/(2 eps_xx)", "-", _mod.interior_nu,
+                lambda i: _mod.lattice_moduli(i)[1], _LATTICE, rel=0.02,
+            ),
+            Check(
+                "interior modulus sigma/(eps_xx E0)", "-", _mod.interior_e_ratio,
+                lambda i: _mod.lattice_moduli(i)[0], _LATTICE, rel=0.02,
+            ),
+        ),
+    ),
+    _lps_case(0.1, (30, 20, 20)),
+    _lps_case(0.25, (30, 20, 20)),
+    _lps_case(0.35, (30, 20, 20)),
     Case(
         "plate_tension_explicit",
         "a plate under a ramped uniaxial traction oscillates about Hooke's static state",
