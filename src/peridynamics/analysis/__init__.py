@@ -1,9 +1,10 @@
-"""Post-processing and analysis tools: crack tracking, dispersion relations and the
-J-integral."""
+"""Post-processing and analysis tools: crack tracking, dispersion relations, the
+J-integral and crack-opening profiles."""
 
 from peridynamics.analysis.anisotropy import DamageAnisotropy, damage_anisotropy
 from peridynamics.analysis.attenuation import corrected_strength, fit_attenuation
 from peridynamics.analysis.crack import branching, count_branches, crack_tip, tip_speed
+from peridynamics.analysis.crack_opening import crack_opening, k_from_opening, lefm_opening
 from peridynamics.analysis.crack_path import extract_crack_path, extract_crack_paths
 from peridynamics.analysis.crack_polyline import CrackPath
 from peridynamics.analysis.crack_speed import rayleigh_speed, tip_speed_from_paths
@@ -42,12 +43,15 @@ __all__ = [
     "continuous_1d",
     "corrected_strength",
     "count_branches",
+    "crack_opening",
     "crack_tip",
     "fit_attenuation",
     "fdm_1d",
     "fully_discrete_1d",
     "j_integral",
+    "k_from_opening",
     "lattice_family_2d",
+    "lefm_opening",
     "oscillation_index_2d",
     "semi_discrete_1d",
     "semi_discrete_2d",
