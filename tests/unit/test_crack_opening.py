@@ -7,7 +7,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from peridynamics.analysis.crack_opening import crack_opening, k_from_opening, lefm_opening
+from peridynamics.analysis.crack_opening import (
+    crack_opening,
+    k_and_tip_from_opening,
+    k_from_opening,
+    lefm_opening,
+)
 from tests.unit.test_j_integral import DX, K_I, E, _williams
 
 
@@ -53,6 +58,22 @@ def test_griffith_opening_extrapolates_the_next_term() -> None:
     k_ref = sig * np.sqrt(np.pi * a)
     assert k_app.min() / k_ref < 0.96
     assert k / k_ref == pytest.approx(1.0, abs=1e-3)
+
+
+def test_griffith_opening_with_a_shifted_tip() -> None:
+    """The same crack read with the tip assumed 0.5 mm short of the true one: the
+    straight line in r is off (measured K/K_ref = 1.108), the fit with the tip finds K
+    and the shift to round-off (COD^2 is a quadratic in r)."""
+    a, sig, d = 0.02, 10e6, 5e-4
+    x = np.linspace(0.0, a, 401)[:-1]
+    cod = 4 * sig / E * np.sqrt(a**2 - x**2)
+    k_ref = sig * np.sqrt(np.pi * a)
+    r = a - d - x
+    k_lin, _, _ = k_from_opening(r, cod, E, (0.1 * a, 0.4 * a))
+    k, shift = k_and_tip_from_opening(r, cod, E, (0.1 * a, 0.4 * a))
+    assert k_lin / k_ref > 1.04
+    assert k / k_ref == pytest.approx(1.0, abs=1e-9)
+    assert shift == pytest.approx(d, rel=1e-6)
 
 
 def test_rotated_line_and_3d_points() -> None:

@@ -4,7 +4,12 @@ J-integral and crack-opening profiles."""
 from peridynamics.analysis.anisotropy import DamageAnisotropy, damage_anisotropy
 from peridynamics.analysis.attenuation import corrected_strength, fit_attenuation
 from peridynamics.analysis.crack import branching, count_branches, crack_tip, tip_speed
-from peridynamics.analysis.crack_opening import crack_opening, k_from_opening, lefm_opening
+from peridynamics.analysis.crack_opening import (
+    crack_opening,
+    k_and_tip_from_opening,
+    k_from_opening,
+    lefm_opening,
+)
 from peridynamics.analysis.crack_path import extract_crack_path, extract_crack_paths
 from peridynamics.analysis.crack_polyline import CrackPath
 from peridynamics.analysis.crack_speed import rayleigh_speed, tip_speed_from_paths
@@ -49,6 +54,7 @@ __all__ = [
     "fdm_1d",
     "fully_discrete_1d",
     "j_integral",
+    "k_and_tip_from_opening",
     "k_from_opening",
     "lattice_family_2d",
     "lefm_opening",
