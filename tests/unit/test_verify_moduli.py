@@ -22,6 +22,7 @@ def test_fit_of_an_affine_field(tmp_path) -> None:
     assert interior_e_ratio(summary) == pytest.approx(1.0, rel=1e-9)
 
 
+@pytest.mark.long  # the m = 8 family: 14 M bonds, 14 s
 def test_lattice_moduli_of_the_default_family() -> None:
     """m = 3.015, truncated partial volumes: r = M_xxyy / M_xxxx = 0.368 (1/3 on the
     ball); at m = 10 the family is nearly isotropic."""
