@@ -20,7 +20,7 @@ extrapolation removes it.
 
 Where the tip of the discrete crack is not where the line says (a bond-cut crack ends
 between grid points, and the nonlocal zone blunts it), K(r) = E'/8 COD sqrt(2 pi / r)
-with the wrong r grows without bound towards the tip. :func:`k_and_tip_from_opening`
+with the wrong r grows without bound towards the tip. ``k_and_tip_from_opening``
 fits the tip as well: with r' = r + d the distance to the effective tip,
 (E'/8)^2 2 pi COD^2 = K_I^2 r' (1 + c r'), a quadratic in r (exact for Griffith's crack,
 c = -1/(2a)); the effective tip is its root r = -d and K_I^2 its slope there.
@@ -122,7 +122,7 @@ def k_from_opening(
     Parameters
     ----------
     r : (m,) distances behind the tip (m), for example ``tip_s - s`` of
-        :func:`crack_opening` with the line running towards the tip.
+        ``crack_opening`` with the line running towards the tip.
     cod : (m,) opening at ``r`` (m).
     e_prime : float
         E' (Pa): E in plane stress, E / (1 - nu^2) in plane strain.
