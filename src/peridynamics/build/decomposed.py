@@ -26,6 +26,7 @@ from peridynamics.build.solvers import build_solver
 from peridynamics.build.windowed import agreed, cloud_meta, conditions, deck_lattice
 from peridynamics.build.windowed import local_cloud as windowed_cloud
 from peridynamics.communicator import using
+from peridynamics.geometry.cloud import PointCloud
 from peridynamics.geometry.lattice import Lattice
 from peridynamics.parallel.local import (
     decompose,
@@ -96,21 +97,36 @@ def _build_windowed(deck: dk.Deck, comm: Any, lattice: Lattice) -> dict[str, Any
     if comm.Get_rank() == 0:
         warn_horizon(deck, meta.lo, meta.hi, meta.n_points, meta.spacing)
     body, kin, init = conditions(deck, cloud, lay.n_owned, comm)
-    mpi = MPICommunicator(comm, lay)
+    parts = _rank_model(
+        deck, cloud, MPICommunicator(comm, lay), part.n_family, (meta.lo, meta.hi), body, kin, init
+    )
+    set_up = {"how": "windowed", "replicated_bytes": part.replicated_bytes}
+    return {**parts, "global_cloud": meta, "set_up": set_up}
+
+
+def _rank_model(
+    deck: dk.Deck,
+    cloud: PointCloud,
+    mpi: MPICommunicator,
+    n_family: int,
+    bounds: tuple[Any, Any],
+    body: list,
+    kin: list,
+    init: list,
+) -> dict[str, Any]:
+    """A rank's bonds (owned and first-layer families), model, rigid bodies and solver,
+    built with its communicator active (``bounds``: the whole body's corners, m)."""
     with using(mpi):
-        bonds = build_bonds_for(deck, cloud, (meta.lo, meta.hi))
-        bonds = own_families(bonds, cloud, part.n_family)
+        bonds = own_families(build_bonds_for(deck, cloud, bounds), cloud, n_family)
         model = build_model(deck, cloud, bonds, body)
         attach_rigid_bodies(deck, cloud, model, bonds)
         solver = build_solver(deck, cloud, model, body, kin, init)
     return {
         "cloud": cloud,
-        "global_cloud": meta,
         "model": model,
         "solver": solver,
         "communicator": mpi,
-        "n_family": part.n_family,
-        "set_up": {"how": "windowed", "replicated_bytes": part.replicated_bytes},
+        "n_family": n_family,
     }
 
 
@@ -134,23 +150,13 @@ def _build_replicated(deck: dk.Deck, comm: Any) -> dict[str, Any]:
     radius, ghost_radius = _radii(deck, global_cloud.spacing, families)
     layout, n_family = decompose(comm, global_cloud, radius, ghost_radius, families)
     cloud = local_cloud(global_cloud, layout)
-    mpi = MPICommunicator(comm, layout)
     # on the global cloud (a traction's layer thickness is that of the whole node set)
     body, kin, init = (
         [localize_condition(c, layout.owned_ids) for c in group]
         for group in build_conditions(deck, global_cloud)
     )
-    with using(mpi):
-        bonds = own_families(build_bonds_for(deck, cloud, global_cloud.bounds), cloud, n_family)
-        model = build_model(deck, cloud, bonds, body)
-        attach_rigid_bodies(deck, cloud, model, bonds)
-        solver = build_solver(deck, cloud, model, body, kin, init)
-    return {
-        "cloud": cloud,
-        "global_cloud": global_cloud,
-        "model": model,
-        "solver": solver,
-        "communicator": mpi,
-        "n_family": n_family,
-        "set_up": {"how": "replicated", "replicated_bytes": int(global_cloud.x.nbytes)},
-    }
+    parts = _rank_model(
+        deck, cloud, MPICommunicator(comm, layout), n_family, global_cloud.bounds, body, kin, init
+    )
+    set_up = {"how": "replicated", "replicated_bytes": int(global_cloud.x.nbytes)}
+    return {**parts, "global_cloud": global_cloud, "set_up": set_up}
