@@ -171,3 +171,22 @@ def test_ctrl_c_at_any_moment_of_start_up_exits_130(tmp_path: Path) -> None:
         _, stderr = proc.communicate(timeout=120)
         assert proc.returncode == 130, (k, stderr[-500:])
         assert "Traceback" not in stderr
+
+
+def test_an_interrupt_wrapped_by_a_c_extension_is_still_an_interrupt() -> None:
+    """pydantic-core wraps a KeyboardInterrupt raised while it builds a validator into a
+    SchemaError naming it (seen in CI: Ctrl-C 0.22 s into start-up exited 1): the
+    start-up handler finds the signal behind such an exception, and only there."""
+    from peridynamics.cli import _wrapped_signal
+
+    wrapped = ValueError('Error building "tagged-union" validator:\n  KeyboardInterrupt: ')
+    assert _wrapped_signal(wrapped) == signal.SIGINT
+    assert _wrapped_signal(ValueError("StopSignal: SIGTERM")) == signal.SIGTERM
+    assert _wrapped_signal(ValueError("an unrelated error")) is None
+    try:
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as exc:
+            raise RuntimeError("chained") from exc
+    except RuntimeError as chained:
+        assert _wrapped_signal(chained) == signal.SIGINT

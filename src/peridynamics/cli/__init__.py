@@ -51,6 +51,16 @@ def main(argv: list[str] | None = None) -> int:
                 signal.signal(sig, _raise_stop)
     try:
         from peridynamics.cli.entry import run_command
+    except Exception as exc:  # an interrupt that a C extension wrapped (pydantic-core
+        signum = _wrapped_signal(exc)  # builds the deck's validators at import)
+        if signum is None:
+            raise
+        sys.stderr.write(
+            f"interrupted ({signal_name(signum)}) during start-up; nothing was written\n"
+        )
+        if argv is None:
+            _exit_now(exit_for_signal(signum))
+        return exit_for_signal(signum)
     except KeyboardInterrupt as exc:
         signum = getattr(exc, "signum", int(signal.SIGINT))
         sys.stderr.write(
@@ -63,6 +73,22 @@ def main(argv: list[str] | None = None) -> int:
     if argv is None and code > 128 and "mpi4py.MPI" not in sys.modules:
         _exit_now(code)
     return code
+
+
+def _wrapped_signal(exc: BaseException) -> int | None:
+    """The stop signal behind an exception that wraps a KeyboardInterrupt (chained, or
+    only named in the message, as pydantic-core's SchemaError does when the interrupt
+    lands while it builds a validator); ``None`` for any other exception."""
+    seen: BaseException | None = exc
+    while seen is not None:
+        if isinstance(seen, KeyboardInterrupt):
+            return int(getattr(seen, "signum", signal.SIGINT))
+        seen = seen.__cause__ or seen.__context__
+    text = str(exc)
+    for sig in STOP_SIGNALS:
+        if sig != signal.SIGINT and f"StopSignal: {signal_name(sig)}" in text:
+            return int(sig)
+    return int(signal.SIGINT) if "KeyboardInterrupt" in text or "StopSignal" in text else None
 
 
 def _exit_now(code: int) -> None:
