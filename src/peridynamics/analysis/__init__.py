@@ -1,5 +1,5 @@
 """Post-processing and analysis tools: crack tracking, dispersion relations, the
-J-integral and crack-opening profiles."""
+J-integral, crack-opening profiles and the energy release rate from broken bonds."""
 
 from peridynamics.analysis.anisotropy import DamageAnisotropy, damage_anisotropy
 from peridynamics.analysis.attenuation import corrected_strength, fit_attenuation
@@ -30,6 +30,7 @@ from peridynamics.analysis.dispersion import (
     zero_energy_points_1d,
     zero_group_velocity_points_1d,
 )
+from peridynamics.analysis.energy_release import broken_bond_energy, energy_release_rate
 from peridynamics.analysis.j_integral import j_integral
 
 __all__ = [
@@ -45,11 +46,13 @@ __all__ = [
     "advise_1d",
     "bloch_dispersion",
     "branching",
+    "broken_bond_energy",
     "continuous_1d",
     "corrected_strength",
     "count_branches",
     "crack_opening",
     "crack_tip",
+    "energy_release_rate",
     "fit_attenuation",
     "fdm_1d",
     "fully_discrete_1d",

@@ -10,6 +10,11 @@ import numpy as np
 
 from peridynamics.analysis.crack_attribution import attribute_to_polylines
 from peridynamics.analysis.crack_length import CrackMeter
+from peridynamics.analysis.energy_release import (
+    broken_bond_energy,
+    energy_release_rate,
+    supports_broken_bond_energy,
+)
 from peridynamics.io.observers.base import Observer, RunContext, RunOptions
 from peridynamics.io.observers.crack_bonds import (
     all_intact,
@@ -42,6 +47,8 @@ class CrackLength(Observer):
             "rest": f"crack_{what}_unattributed_{unit}",
             "per_crack": f"broken_bond_{what}_{unit}",
         }
+        # the energy of the broken bonds (J) and G (J/m^2): bond-based PMB, brittle
+        self.energy = supports_broken_bond_energy(model)
         self.meter: CrackMeter | None = None
         self._last: tuple[int, float] | None = None  # (bonds_broken, value) of the last record
 
@@ -62,8 +69,17 @@ class CrackLength(Observer):
         self._last = (s.bonds_broken, v)
         return v
 
+    def broken_energy(self, s: State, session: Any = None) -> float:
+        """Energy (J) the bonds broken during the run stored at their threshold
+        (:func:`~peridynamics.analysis.energy_release.broken_bond_energy`)."""
+        if session is not None:  # every rank its owned bonds
+            return float(session.call("call", _energy_on_ranks))
+        return broken_bond_energy(self.model, s.intact)
+
     def on_start(self, ctx: RunContext, s: State, resumed: bool) -> None:
         ctx.records.setdefault(self.keys["history"], [])
+        if self.energy:
+            ctx.records.setdefault("broken_bond_energy_J", [])
         if not resumed:
             self.record(ctx, s)
 
@@ -74,6 +90,8 @@ class CrackLength(Observer):
     def record(self, ctx: RunContext, s: State) -> None:
         """Append the crack length (area) at this state."""
         ctx.records[self.keys["history"]].append(self.value(s, ctx.session))
+        if self.energy:
+            ctx.records["broken_bond_energy_J"].append(self.broken_energy(s, ctx.session))
 
     def finalize(self, ctx: RunContext, s: State, results: dict[str, Any]) -> list[str]:
         m, keys = self.model, self.keys
@@ -88,6 +106,15 @@ class CrackLength(Observer):
             mid = meter.midpoints(idx)
         results[keys["total"]] = float(w.sum())
         results[keys["history"]] = list(ctx.records.get(keys["history"], []))
+        if self.energy:
+            energy = list(ctx.records.get("broken_bond_energy_J", []))
+            results["broken_bond_energy_J"] = self.broken_energy(s, ctx.session)
+            results["broken_bond_energy_history_J"] = energy
+            thickness = m.cloud.cross_section if self.dim == 2 else 1.0
+            g = energy_release_rate(
+                np.asarray(energy), np.asarray(results[keys["history"]]), thickness
+            )
+            results["energy_release_rate_J_m2"] = None if np.isnan(g) else g
         horizon = m.bonds.horizon
         o = self.run.output
         if o.crack_paths and isinstance(results.get("crack_paths"), dict):
@@ -108,6 +135,12 @@ class CrackLength(Observer):
                 ahead = (mid - np.asarray(ct.origin, dtype=float)) @ d >= -horizon
             results["crack_tip_broken_bond_length_m"] = float(w[ahead].sum())
         return []
+
+
+def _energy_on_ranks(session: Any) -> float:
+    """Every rank: the broken-bond energy of its owned bonds, summed over the ranks."""
+    m = session.model
+    return float(session.comm.sum(broken_bond_energy(m, session.state.intact, m.owned_bonds)))
 
 
 def crack_length_observers(run: RunOptions, model: Evaluator) -> list[Observer]:
