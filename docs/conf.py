@@ -38,7 +38,8 @@ extensions = [
 templates_path = ["_templates"]
 source_suffix = {".rst": "restructuredtext", ".md": "myst-nb"}
 root_doc = "index"
-exclude_patterns = ["_build", "Thumbs.db", ".DS_Store", "img/site/*.md", "jupyter_execute"]
+exclude_patterns = ["_build", "Thumbs.db", ".DS_Store", "img/site/*.md", "jupyter_execute",
+                    "gallery/_*.md"]  # fmt: skip
 # the tutorials (docs/tutorials/*.md, MyST notebooks) run at every build: a cell that
 # raises fails the build; each notebook's time is in the build log and in
 # _build/.../reports when one fails
@@ -67,11 +68,19 @@ autodoc_member_order = "bysource"
 numpydoc_show_class_members = False
 numpydoc_validation_checks: set[str] = set()
 
-html_theme = "alabaster"
+# the PyData theme (pydata-sphinx-theme, the [docs] extra): no icon links and no
+# external assets, so the site works offline; the gallery's cards: _static/gallery.css
+html_theme = "pydata_sphinx_theme"
 html_title = f"peridynamics {release}"
 html_static_path = ["_static"]
 html_js_files = ["check_images.js"]
+html_css_files = ["gallery.css"]
 html_theme_options = {
-    "description": "Peridynamic simulation of deformation, waves and fracture",
-    "fixed_sidebar": True,
+    "navbar_align": "left",
+    "header_links_before_dropdown": 4,
+    "show_toc_level": 2,
+    "navigation_depth": 2,
+    "show_prev_next": True,
+    "footer_start": ["copyright"],
+    "footer_end": ["sphinx-version", "theme-version"],
 }

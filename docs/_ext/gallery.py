@@ -1,4 +1,6 @@
-"""The gallery: one page per folder of ``examples/``, generated when the site is built.
+"""The gallery: one page per folder of ``examples/``, generated when the site is built,
+and an index of cards (a thumbnail and the title of each example; the landing page shows
+a selection of them, ``gallery/_landing.md``).
 
 Each page holds the example's README (its text, the measured numbers against the
 paper's, and its figures, which the example's own scripts made from a documented run),
@@ -90,6 +92,41 @@ def _page(folder: Path) -> str:
     return "\n".join(lines)
 
 
+#: the examples the landing page shows, in this order (each must have a figure)
+LANDING = ("crack_branching_2d", "kalthoff_winkler", "rock_compression", "micropolar",
+           "bodies", "spalling", "waves", "geometry")  # fmt: skip
+
+
+def _thumbnail(folder: Path) -> Path | None:
+    """The figure that stands for an example: the first one its README shows, else the
+    first PNG of the folder by name; ``None`` without a figure."""
+    readme = folder / "README.md"
+    if readme.exists():
+        for target in _IMAGE.findall(readme.read_text()):
+            path = (folder / target[1]).resolve()
+            if path.suffix == ".png" and path.parent == folder.resolve() and path.exists():
+                return path
+    figures = sorted(folder.glob("*.png"))
+    return figures[0] if figures else None
+
+
+def _cards(names: list[str], prefix: str) -> list[str]:
+    """A grid of cards (MyST containers styled by ``_static/gallery.css``): each the
+    example's thumbnail linking to its page, and its title; ``prefix`` is the path from
+    the page that shows the grid to ``gallery/``."""
+    lines = ["::::{container} pd-grid", ""]
+    for name in names:
+        folder = EXAMPLES / name
+        title = _title(folder)[0].replace("[", "(").replace("]", ")")
+        thumb = _thumbnail(folder)
+        lines += [":::{container} pd-card", ""]
+        if thumb is not None:
+            lines += [f"```{{image}} {prefix}_img/{name}/{thumb.name}", f":alt: {title}",
+                      f":target: {prefix}{name}.html", "```", ""]  # fmt: skip
+        lines += [f"[{title}]({prefix}{name}.md)", "", ":::", ""]
+    return lines + ["::::", ""]
+
+
 def build_gallery() -> list[str]:
     """Write ``docs/gallery/*.md`` (and copy the figures); return the page names."""
     if OUT.exists():
@@ -106,10 +143,12 @@ def build_gallery() -> list[str]:
         (OUT / f"{folder.name}.md").write_text(_page(folder))
         names.append(folder.name)
     index = ["# Gallery", "", "Every shipped example: its figures, its decks, the command",
-             "that runs it and the numbers it measured against the paper's.", "",
-             "```{toctree}", ":maxdepth: 1", ""]  # fmt: skip
-    index += names + ["```", ""]
+             "that runs it and the numbers it measured against the paper's.", ""]  # fmt: skip
+    index += _cards(names, "")
+    index += ["```{toctree}", ":maxdepth: 1", ":hidden:", ""] + names + ["```", ""]
     (OUT / "index.md").write_text("\n".join(index))
+    shown = [n for n in LANDING if n in names and _thumbnail(EXAMPLES / n) is not None]
+    (OUT / "_landing.md").write_text("\n".join(_cards(shown, "gallery/")))
     return names
 
 

@@ -33,6 +33,7 @@ SHOTS = {
     "user_guide.png": "solvers.html",
     "deck_reference.png": "deck.html",
     "gallery_entry.png": "gallery/rock_compression.html",
+    "gallery.png": "gallery/index.html",
 }
 
 
@@ -134,6 +135,22 @@ def test_site_pages(site: Path) -> None:
 
 
 @pytest.mark.docs
+def test_gallery_and_landing_page_show_a_card_per_example(site: Path) -> None:
+    """The gallery's index: one card per example page, a thumbnail on each whose example
+    has a figure; the landing page: the selection of ``docs/_ext/gallery.py``'s
+    ``LANDING``, each card with its thumbnail."""
+    examples = [p for p in (ROOT / "examples").iterdir() if p.is_dir()]
+    pages = {p.stem for p in (site / "gallery").glob("*.html")} - {"index", "verification"}
+    index = (site / "gallery" / "index.html").read_text()
+    assert index.count('class="pd-card') == len(pages) >= 15
+    with_figures = [p for p in examples if p.name in pages and any(p.glob("*.png"))]
+    cards = index.split('class="pd-card')[1:]
+    assert sum("<img" in c for c in cards) == len(with_figures)
+    landing = (site / "index.html").read_text().split('class="pd-card')[1:]
+    assert len(landing) >= 6 and all("<img" in c for c in landing)
+
+
+@pytest.mark.docs
 def test_no_broken_link_or_missing_image(site: Path) -> None:
     parsed = {p: _parse(p) for p in site.rglob("*.html")}
     broken: list[str] = []
@@ -196,7 +213,7 @@ def test_pages_render_in_chromium_with_every_image(site: Path, tmp_path: Path) -
              "--virtual-time-budget=5000", "--dump-dom", (site / name).as_uri()],
             capture_output=True, text=True, timeout=120,
         ).stdout  # fmt: skip
-        assert "</body>" in dom and 'class="body"' in dom, name
+        assert "</body>" in dom and "bd-article" in dom, name  # the PyData theme's article
         got = re.search(r'data-images="(\d+)" data-broken-images="(\d+)"', dom)
         assert got is not None, f"{name}: the image check did not run"
         assert got.group(2) == "0", f"{name}: {got.group(2)} images did not load"

@@ -25,7 +25,7 @@ __all__ = ["broken_bond_energy", "energy_release_rate", "supports_broken_bond_en
 
 
 def supports_broken_bond_energy(model: Any) -> bool:
-    """Whether ``model`` (an :class:`~peridynamics.evaluation.Evaluator`) has a broken
+    """Whether ``model`` (an :class:`~peridynamics.evaluation.evaluator.Evaluator`) has a broken
     bond energy: a PMB force model (no SED softening, no several bodies) with the
     critical-stretch law, whose bonds are linear up to breaking."""
     fm, law = model.force_model, model.damage_law
