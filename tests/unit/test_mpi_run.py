@@ -209,12 +209,32 @@ def test_a_killed_rank_resumes_to_the_same_result(tmp_path: Path) -> None:
 
 
 @pytest.mark.mpi
-def test_static_solver_is_refused_with_its_key(tmp_path: Path) -> None:
-    yaml = EXAMPLES / "micropolar" / "cantilever.yaml"  # solver.type: static
-    got = _run(str(yaml), "--out", str(tmp_path / "x"), ranks=2)
-    assert got.returncode == 2
-    assert "solver.type" in got.stderr and "one rank" in got.stderr
-    assert got.stderr.count("solver.type") == 1  # rank 0 speaks once
+def test_two_ranks_static_solver_breaks_the_same_bonds(tmp_path: Path) -> None:
+    """The static Newton solver decomposed (distributed CG with block AMG): the same
+    solves, Newton iterations, breaking events and broken bonds as one process, the
+    displacements and the reaction to the Newton tolerance (docs/mpi.md)."""
+    args = [
+        str(EXAMPLES / "static_fracture" / "notched_plate_adr.yaml"),
+        "--set", "solver.type=static",
+        "--set", "solver.tolerance=1e-8",
+        "--set", "output.vtk_every=0",
+    ]  # fmt: skip
+    assert _run(*args, "--out", str(tmp_path / "s")).returncode == 0
+    mpi = _run(*args, "--out", str(tmp_path / "m"), ranks=2)
+    assert mpi.returncode == 0, mpi.stderr
+    fs, fm = read_final_state(tmp_path / "s"), read_final_state(tmp_path / "m")
+    np.testing.assert_array_equal(fm["intact"], fs["intact"])
+    # measured 1.5e-14 of the largest displacement (tolerance 1e-8, CG to 1e-10)
+    assert np.abs(fm["u"] - fs["u"]).max() <= 1e-9 * np.abs(fs["u"]).max()
+    rs = json.loads((tmp_path / "s" / "summary.json").read_text())["results"]
+    rm = json.loads((tmp_path / "m" / "summary.json").read_text())["results"]
+    for key in ("solves", "newton_iterations", "breaking_events", "bonds_broken"):
+        assert rm[key] == rs[key], key
+    assert rm["breaking_events"] > 10 and rm["ranks"] == 2 and rm["cg_iterations"] > 0
+    assert rm["first_break_m"] == pytest.approx(rs["first_break_m"])
+    ps = np.asarray(rs["probes"]["reaction"]["values"])
+    pm = np.asarray(rm["probes"]["reaction"]["values"])
+    assert np.abs(pm - ps).max() <= 1e-9 * np.abs(ps).max()
 
 
 @pytest.mark.mpi

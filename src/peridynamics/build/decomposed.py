@@ -42,8 +42,6 @@ def _refuse(deck: dk.Deck, size: int) -> None:
     """SetupError for what a decomposed run does not support."""
     how = f"run it on one rank (without mpiexec -n {size}), or as an ensemble/sweep member"
     s = deck.solver
-    if s.type == "static":
-        raise SetupError("solver.type", f"the static (Newton) solver is not distributed; {how}")
     if isinstance(s, dk.Solver) and (s.hybrid is not None or s.method == "fdm"):
         key = "solver.hybrid" if s.hybrid is not None else "solver.method"
         raise SetupError(key, f"hybrid and finite-difference runs are 1-D and serial; {how}")

@@ -152,7 +152,12 @@ def build_static(
         direct_backend()
     except ValueError as exc:
         raise SetupError("solver.linear_solver", str(exc)) from None
-    return StaticSolver(model, constraints=kin, **deck.solver.model_dump(exclude={"type"}))
+    keys = deck.solver.model_dump(exclude={"type"})
+    if model.comm.n_owned is not None:  # a rank of a decomposed run
+        from peridynamics.solvers.static_distributed import DistributedStaticSolver
+
+        return DistributedStaticSolver(model, constraints=kin, **keys)
+    return StaticSolver(model, constraints=kin, **keys)
 
 
 def build_adr(

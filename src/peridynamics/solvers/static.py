@@ -229,13 +229,13 @@ class StaticSolver(StaticDofs):
         self._scatter(q.reshape(-1, self.width), s)
         self.model.evaluate(s, commit=False)
         body = np.concatenate([s[g.body] for g in self.groups], axis=1).reshape(-1)
-        load = norm((self._volume * body)[~self.fixed])
+        load = self._norm(self._volume * body, ~self.fixed)
         it = 0
         while True:
             p = self._unbalanced(s)
             free = self.system.free if len(self.system.free) else np.flatnonzero(~self.fixed)
-            ref = max(load, norm(p[self.fixed]), self._peak_ref, 1e-300)
-            residual = norm(p[free]) / ref
+            ref = max(load, self._norm(p, self.fixed), self._peak_ref, 1e-300)
+            residual = self._norm(p, free) / ref
             if not math.isfinite(residual):
                 return False, it, float("nan")
             if residual <= self.tolerance:
@@ -249,6 +249,11 @@ class StaticSolver(StaticDofs):
             self._scatter(q.reshape(-1, self.width), s)
             self.model.evaluate(s, commit=False)
             it += 1
+
+    def _norm(self, v: NDArray[np.float64], where: NDArray) -> float:
+        """The norm of ``v[where]`` (``where``: a mask or indices of the flat dofs); a
+        decomposed solver sums over every rank's owned dofs."""
+        return norm(v[where])
 
     def _ratios(self, s: State, breaker: PairBreaker) -> NDArray[np.float64]:
         """l / l_c of the breaker's candidate pairs at ``s`` (kept until the state or
@@ -268,15 +273,23 @@ class StaticSolver(StaticDofs):
         self._ratio = self._picked = None
         if self.breaker is None:
             return False
-        self._picked = self.breaker.pick(self._ratios(s, self.breaker))
+        self._picked = self._pick(s, self.breaker)
         return bool(len(self._picked))
+
+    def _pick(self, s: State, breaker: PairBreaker) -> NDArray[np.int64]:
+        """The pairs the breaker's scheme breaks at the equilibrium ``s``."""
+        return breaker.pick(self._ratios(s, breaker))
+
+    def _event_factor(self, s: State, breaker: PairBreaker) -> float:
+        """The factor by which the solution ``s`` scales before the next bond breaks."""
+        return breaker.factor(self._ratios(s, breaker))
 
     def _next_level(self, s: State) -> float:
         """The next load level: k / N, or the next breaking event when scalable."""
         k = math.floor(self.lam * self.load_steps + 1e-9) + 1
         level = min(k / self.load_steps, 1.0)
         if self.scalable and self.event_driven and self.breaker is not None and self.lam > 0:
-            factor = self.breaker.factor(self._ratios(s, self.breaker))
+            factor = self._event_factor(s, self.breaker)
             event = self.lam * factor * (1.0 + _EVENT_MARGIN)
             if event < level:
                 level = event
@@ -288,7 +301,7 @@ class StaticSolver(StaticDofs):
         broken."""
         pairs = self._picked
         if pairs is None:
-            pairs = breaker.pick(self._ratios(s, breaker))
+            pairs = self._pick(s, breaker)
         self._ratio = self._picked = None
         both = breaker.both_directions(pairs)
         if self._first_break is None and len(pairs):
