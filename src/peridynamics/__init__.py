@@ -20,6 +20,7 @@ _configure_numba_cache()  # before any kernel module imports Numba: sets NUMBA_C
 
 if TYPE_CHECKING:
     from peridynamics.api.batch import SweepResult, ensemble, sweep
+    from peridynamics.api.calibrate import CalibrationError, calibrate
     from peridynamics.api.deck import Deck
     from peridynamics.api.result import Result
     from peridynamics.api.simulation import Callback, Simulation
@@ -38,6 +39,7 @@ if TYPE_CHECKING:
 _LAZY = {
     "BondBasedMaterial": "peridynamics.families.pmb",
     "Bonds": "peridynamics.bonds",
+    "CalibrationError": "peridynamics.api.calibrate",
     "Callback": "peridynamics.api.simulation",
     "CriticalStretch": "peridynamics.damage",
     "Deck": "peridynamics.api.deck",
@@ -53,6 +55,7 @@ _LAZY = {
     "State": "peridynamics.solvers",
     "SweepResult": "peridynamics.api.batch",
     "build_bonds": "peridynamics.bonds",
+    "calibrate": "peridynamics.api.calibrate",
     "ensemble": "peridynamics.api.batch",
     "sweep": "peridynamics.api.batch",
 }
@@ -85,6 +88,7 @@ def __dir__() -> list[str]:
 __all__ = [
     "BondBasedMaterial",
     "Bonds",
+    "CalibrationError",
     "Callback",
     "CriticalStretch",
     "Deck",
@@ -101,6 +105,7 @@ __all__ = [
     "SweepResult",
     "__version__",
     "build_bonds",
+    "calibrate",
     "ensemble",
     "sweep",
 ]

@@ -33,7 +33,7 @@ def supports_broken_bond_energy(model: Any) -> bool:
         getattr(fm, "name", None) == "pmb"
         and getattr(model, "softening", None) is None
         and hasattr(fm, "stiffness")
-        and hasattr(law, "stretch_thresholds")
+        and getattr(law, "stretch_thresholds", lambda: None)() is not None
         and getattr(model, "rigid", None) is None
         and not getattr(fm, "interfaces", ())
     )

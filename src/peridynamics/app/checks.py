@@ -147,6 +147,7 @@ def built_problem(sim: Any, allow_large: bool) -> str | None:
     from peridynamics.solvers.explicit import ExplicitSolver
 
     inner = getattr(solver, "second", solver)  # a hybrid: the PD model sets the cost
+    inner = getattr(inner, "mechanical", inner)  # thermal expansion: the mechanical solver
     steps = float(solver.total_steps()) if isinstance(inner, ExplicitSolver) else None
     return work_problem(steps, float(sim.model.bonds.n_bonds), allow_large, False)
 

@@ -244,6 +244,73 @@ _PLATE_CHECKS = (
     ),
 )  # fmt: skip
 
+
+def _thermal_stress(inputs: Summary) -> float:
+    """-E alpha dT (Pa): the axial stress of a bar held at its ends and heated by dT,
+    free laterally (plane stress)."""
+    t = inputs["thermal"]
+    initial = float(t["initial_temperature"])
+    reference = t.get("reference_temperature")
+    dt = initial - (initial if reference is None else float(reference))
+    return -float(inputs["material"]["youngs_modulus"]) * float(t["expansion"]) * dt
+
+
+def _last_probe(summary: Summary, name: str) -> float:
+    return float(_probe(summary, name)["values"][-1])
+
+
+def _sn_cycles(inputs: Summary) -> float:
+    """N = 1 / (A1 ((1 - R) s)^m1) of a uniform bar at the stretch s = u/L (Silling &
+    Askari 2014; A1 from the S-N point: A1 = 1 / (N_ref range_ref^m1))."""
+    f = inputs["damage"]["fatigue"]
+    m1 = float(f["m1"])
+    a1 = f.get("a1")
+    if a1 is None:
+        ref = f["sn_point"]
+        a1 = 1.0 / (float(ref["cycles"]) * float(ref["strain_range"]) ** m1)
+    pull = [c for c in inputs["boundary_conditions"] if c["type"] == "displacement"][0]
+    stretch = float(pull["components"]["x"]) / float(inputs["geometry"]["length"])
+    r = float(inputs["solver"]["load_ratio"])
+    return 1.0 / (float(a1) * (abs(1.0 - r) * stretch) ** m1)
+
+
+_THERMAL_CASE = Case(
+    "thermal_expansion_bar",
+    "an LPS bar held at its ends and heated by 100 K carries the axial stress -E alpha dT "
+    "and no lateral stress (static solve)",
+    "thermal/expansion",
+    quick=("output.vtk_every=0",),
+    checks=(
+        Check(
+            "mean axial stress in the middle of the bar", "Pa",
+            lambda s: _last_probe(s, "middle_sxx"), _thermal_stress,
+            "thermal stress of a bar held at its ends (Timoshenko & Goodier 1970)",
+            rel=0.015,  # measured 1.0089 at dx = 0.5 mm, 1.045 at 1 mm
+        ),
+        Check(
+            "mean lateral stress in the middle of the bar", "Pa",
+            lambda s: _last_probe(s, "middle_syy"), lambda i: 0.0,
+            "plane stress, free lateral edges", abs=1e6,  # 0.6 % of E alpha dT = 161 MPa
+        ),
+    ),
+)  # fmt: skip
+
+_FATIGUE_CASE = Case(
+    "fatigue_sn_bar",
+    "a bar of equal bonds cycled at load ratio R fails at the cycles of the S-N law it "
+    "was calibrated with (cycle jumping)",
+    "fatigue/sn_bar",
+    quick=(),
+    checks=(
+        Check(
+            "cycles to the first broken bond", "cycles",
+            lambda s: float(s["results"]["first_break_cycles"]), _sn_cycles,
+            "the remaining-life law dlambda/dN = -A1 eps^m1 integrated at constant range "
+            "(Silling & Askari 2014)", rel=1e-9,
+        ),
+    ),
+)  # fmt: skip
+
 #: every case, in report order
 CASES: tuple[Case, ...] = (
     Case(
@@ -346,6 +413,8 @@ CASES: tuple[Case, ...] = (
             ),
         ),
     ),
+    _THERMAL_CASE,
+    _FATIGUE_CASE,
 )  # fmt: skip
 
 

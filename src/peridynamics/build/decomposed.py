@@ -42,11 +42,19 @@ def _refuse(deck: dk.Deck, size: int) -> None:
     """SetupError for what a decomposed run does not support."""
     how = f"run it on one rank (without mpiexec -n {size}), or as an ensemble/sweep member"
     s = deck.solver
+    if s.type == "fatigue":
+        raise SetupError("solver.type", f"the fatigue solver is not distributed; {how}")
     if isinstance(s, dk.Solver) and (s.hybrid is not None or s.method == "fdm"):
         key = "solver.hybrid" if s.hybrid is not None else "solver.method"
         raise SetupError(key, f"hybrid and finite-difference runs are 1-D and serial; {how}")
     if has_bodies(deck):
         raise SetupError("bodies", f"several bodies are not distributed yet; {how}")
+    if getattr(deck.material, "plasticity", None) is not None:
+        raise SetupError("material.plasticity", f"plastic history is not distributed yet; {how}")
+    if getattr(deck.material, "viscoelastic", None) is not None:
+        raise SetupError(
+            "material.viscoelastic", f"the viscoelastic bond history is not distributed; {how}"
+        )
 
 
 def ghost_families(deck: dk.Deck, cloud: Any) -> bool:

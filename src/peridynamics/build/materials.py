@@ -17,8 +17,12 @@ import numpy as np
 from peridynamics import deck as dk
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.build.errors import SetupError
+from peridynamics.build.fatigue import build_fatigue_law
+from peridynamics.build.plastic_damage import build_plastic_strain_law
 from peridynamics.damage import NO_DAMAGE, CriticalStretch, SEDSoftening, WeibullField
 from peridynamics.evaluation import Evaluator
+from peridynamics.families.correspondence.plasticity import plastic_law
+from peridynamics.families.lps.viscoelastic import Viscoelasticity
 from peridynamics.families.registry import MATERIALS
 from peridynamics.families.viscosity import BondViscosity
 from peridynamics.geometry import PointCloud
@@ -29,7 +33,11 @@ def _bond_based(m: Any) -> Any:
 
 
 def _lps(m: Any) -> Any:
-    return MATERIALS["lps"](m.youngs_modulus, m.poisson_ratio, m.density, m.influence)
+    ve = getattr(m, "viscoelastic", None)
+    return MATERIALS["lps"](
+        m.youngs_modulus, m.poisson_ratio, m.density, m.influence,
+        None if ve is None else Viscoelasticity(ve.fraction, ve.relaxation_time),
+    )  # fmt: skip
 
 
 def _correspondence(m: Any) -> Any:
@@ -40,6 +48,7 @@ def _correspondence(m: Any) -> Any:
         m.stabilization,
         0.1 if m.stabilization_g is None else m.stabilization_g,
         m.law,
+        plastic_law(m.plasticity),
     )
 
 
@@ -132,6 +141,8 @@ DAMAGE_LAWS: dict[str, DamageBuilder] = {
     "principal_stress": _critical_stretch,
     "bilinear": _softening_bonds,
     "trilinear": _softening_bonds,
+    "fatigue": build_fatigue_law,
+    "plastic_strain": build_plastic_strain_law,
 }
 
 

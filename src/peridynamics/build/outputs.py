@@ -42,7 +42,7 @@ def run_options(deck: dk.Deck) -> RunOptions:
     return RunOptions(
         name=deck.name,
         output=deck.output,
-        static=deck.solver.type in ("adr", "static"),
+        static=deck.solver.type in ("adr", "static", "fatigue"),
         can_break=can_break_bonds(deck),
         wave_speed=speed,
         blasts=deck_blasts(deck),

@@ -26,6 +26,7 @@ from peridynamics.build.errors import SetupError
 from peridynamics.build.loads import build_conditions
 from peridynamics.build.materials import build_contact, build_material, build_model
 from peridynamics.build.solvers import build_solver
+from peridynamics.deck.thermal_coupling import coupling_of
 from peridynamics.evaluation import Evaluator
 from peridynamics.families.registry import MATERIALS
 from peridynamics.geometry import PointCloud
@@ -60,6 +61,11 @@ class SimulationSetup:
                 raise SetupError(
                     "solver.type",
                     f"{deck.solver.type} runs in one process; run it without mpiexec",
+                )
+            if coupling_of(deck) is not None:
+                raise SetupError(
+                    "thermal.expansion",
+                    "thermal expansion runs in one process; run it without mpiexec",
                 )
             from peridynamics.build.decomposed import build_distributed
             from peridynamics.parallel.session import Session

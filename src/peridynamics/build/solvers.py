@@ -10,8 +10,10 @@ from typing import Any
 from peridynamics import deck as dk
 from peridynamics.bonds import build_bonds
 from peridynamics.build.errors import SetupError
-from peridynamics.build.thermal import build_heat, build_heat_steady
+from peridynamics.build.fatigue import build_fatigue_solver
+from peridynamics.build.thermal import build_heat, build_heat_steady, couple, install_expansion
 from peridynamics.damage import NO_DAMAGE
+from peridynamics.deck.thermal_coupling import coupling_of
 from peridynamics.evaluation import Evaluator
 from peridynamics.geometry import PointCloud
 from peridynamics.solvers.base import Solver
@@ -178,9 +180,24 @@ SOLVERS: dict[str, SolverBuilder] = {
     "explicit": build_explicit,
     "static": build_static,
     "adr": build_adr,
+    "fatigue": build_fatigue_solver,
     "heat": build_heat,
     "heat_steady": build_heat_steady,
 }
+
+
+def _bind_step_time(model: Evaluator, solver: Solver) -> None:
+    """Give a force model that integrates its history in time (``bind_step_time``: the
+    viscoelastic LPS) the time of one solver step: explicit ``dt``, dynamic relaxation
+    ``load_time / load_steps``."""
+    bind = getattr(model.force_model, "bind_step_time", None)
+    if bind is None:
+        return
+    load_time = getattr(solver, "load_time", None)
+    if load_time is not None:  # a load-stepping solver: the pseudo-time of one step
+        bind(float(load_time) / solver.load_steps)  # type: ignore[attr-defined]
+    else:
+        bind(float(solver.dt))  # type: ignore[attr-defined]
 
 
 def build_solver(
@@ -189,7 +206,12 @@ def build_solver(
     """The deck's solver section -> a solver (registry :data:`SOLVERS`: ``solver.type``)."""
     s = deck.solver
     try:
-        return SOLVERS[s.type](deck, cloud, model, body, kin, init)
+        if coupling_of(deck) is None:
+            solver = SOLVERS[s.type](deck, cloud, model, body, kin, init)
+            _bind_step_time(model, solver)
+            return solver
+        install_expansion(deck, model)  # thermal expansion: docs/theory_thermal.md
+        return couple(deck, cloud, model, SOLVERS[s.type](deck, cloud, model, body, kin, init))
     except SetupError:
         raise
     except ValueError as exc:

@@ -1,4 +1,5 @@
-"""Command line: ``peridynamics run|check|examples|bench|dispersion|ensemble|sweep|help``.
+"""Command line: ``peridynamics run|check|examples|bench|dispersion|ensemble|sweep|help``,
+``calibrate`` and ``band``.
 
 Exit codes: 0 success; 2 invalid deck or model set-up (the key path is on stderr), a
 model too large for this machine, bad arguments; 3 the run went unstable (a summary and

@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 
 from peridynamics import __version__
-from peridynamics.cli import batch, examples, run, tools, verify
+from peridynamics.cli import batch, calibrate, examples, run, tools, verify
 from peridynamics.cli import help as help_cmd
 from peridynamics.cli.common import EXIT_CODES, HELP_TOPICS
 
@@ -23,6 +23,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", required=True)
     run.register(sub)
     batch.register(sub)
+    calibrate.register(sub)
     run.register_check(sub)
     help_cmd.register(sub)
     examples.register(sub)

@@ -9,12 +9,18 @@ from peridynamics.damage.critical_stretch import (
     CriticalStretchLaw,
     family_minimum,
 )
+from peridynamics.damage.fatigue import RemainingLife, RemainingLifeLaw
+from peridynamics.damage.plastic_strain import PlasticStrainFailure, PlasticStrainLaw
 from peridynamics.damage.sed import SEDSoftening
 from peridynamics.damage.weibull import WeibullField
 
 __all__ = [
     "BondSofteningLaw",
     "SofteningBonds",
+    "RemainingLife",
+    "RemainingLifeLaw",
+    "PlasticStrainFailure",
+    "PlasticStrainLaw",
     "NO_DAMAGE",
     "CriticalStretch",
     "CriticalStretchLaw",

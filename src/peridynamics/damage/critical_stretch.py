@@ -157,6 +157,8 @@ class CriticalStretchLaw(DamageLaw):
         if not self.active:
             self._count = 0
             return 0
+        if "thermal_strain" in state:  # thermal expansion: the mechanical stretch
+            return self._trial_mechanical(state)
         b = self.bonds
         if self._counts is None:
             self._counts = np.zeros(len(b.offsets) - 1, dtype=np.int64)
@@ -166,6 +168,20 @@ class CriticalStretchLaw(DamageLaw):
                 self.family_s0_min, self._proposed, self._counts,
             )
         )  # fmt: skip
+        return self._count
+
+    def _trial_mechanical(self, state: State) -> int:
+        """The trial on the mechanical stretch ``s - (eps_i + eps_j)/2`` of a force model
+        with thermal expansion (State field ``thermal_strain``; docs/theory_thermal.md)."""
+        from peridynamics.kernels.thermal_expansion import mechanical_stretch
+
+        b = self.bonds
+        s = np.empty(b.n_bonds)
+        mechanical_stretch(self.x, state.u, b.offsets, b.bond_j, state["thermal_strain"], s)
+        s0 = self.point_s0
+        hit = (state.intact > 0) & (s >= 0.5 * (s0[b.bond_i] + s0[b.bond_j]))
+        self._proposed[:] = hit
+        self._count = int(np.count_nonzero(hit))
         return self._count
 
     def commit(self, state: State) -> int:

@@ -230,6 +230,12 @@ def bodies_errors(deck: Any, geometry_sets: set[str] | None = None) -> Errors:
         names.append(b.name)
         if b.region is not None:
             check_region(errors, f"{path}.region", b.region, dim, set(geometry_sets or ()))
+        if getattr(b.material, "plasticity", None) is not None:
+            errors.append((f"{path}.material.plasticity", "plasticity runs in a single body"))
+        if getattr(b.material, "viscoelastic", None) is not None:
+            errors.append(
+                (f"{path}.material.viscoelastic", "viscoelasticity runs in a single body")
+            )
         if b.geometry is not None and geometry_dim(b.geometry) != dim:
             errors.append(
                 (f"{path}.geometry", f"a {geometry_dim(b.geometry)}-D body in a {dim}-D deck")

@@ -8,6 +8,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field, model_validator
 
+from peridynamics.deck.fatigue import FatigueSpec, fatigue_damage_errors
 from peridynamics.deck.types import Errors, Finite, Num, PosFloat, Strict
 
 
@@ -34,12 +35,19 @@ class Damage(Strict):
     """Bond breaking: ``critical_stretch`` (s0 or fracture_energy; with
     ``tensile_strength`` too, a bond breaks at whichever comes first),
     ``principal_stress`` (``tensile_strength`` only: the mean of the two points' largest
-    principal stresses, correspondence models) or ``none``. ``bond_law`` ``bilinear`` /
+    principal stresses, correspondence models), ``fatigue`` (the remaining-life law of
+    ``fatigue``, with ``solver.type: fatigue``), ``plastic_strain`` (a point's bonds break
+    when its equivalent plastic strain reaches ``critical_plastic_strain``; with
+    ``material.plasticity``; critical_stretch, fracture_energy and tensile_strength may
+    be added) or ``none``. ``bond_law`` ``bilinear`` /
     ``trilinear`` (PMB only) replaces the brittle bond by a tension-softening one: peak
     at s0 = tensile_strength / E, the failure stretch from fracture_energy;
     ``trilinear_knee`` [r, beta] places the knee (default Petersson's [2/9, 1/3])."""
 
-    model: Literal["critical_stretch", "principal_stress", "none"] = "critical_stretch"
+    model: Literal["critical_stretch", "principal_stress", "fatigue", "plastic_strain", "none"] = (
+        "critical_stretch"
+    )
+    critical_plastic_strain: PosFloat | None = None
     critical_stretch: PosFloat | None = None
     fracture_energy: PosFloat | None = None
     tensile_strength: PosFloat | None = None
@@ -48,6 +56,7 @@ class Damage(Strict):
     sed_softening: SEDSofteningSpec | None = None
     bond_law: Literal["brittle", "bilinear", "trilinear"] = "brittle"
     trilinear_knee: tuple[Finite, Finite] | None = None
+    fatigue: FatigueSpec | None = None
 
     @model_validator(mode="after")
     def _one(self) -> Damage:
@@ -57,6 +66,9 @@ class Damage(Strict):
             for name, v in zip(("r", "beta"), self.trilinear_knee, strict=True):
                 if not 0.0 < v < 1.0:
                     raise ValueError(f"[trilinear_knee] {name} must be in (0, 1), got {v}")
+        plastic = _plastic_strain_error(self)
+        if plastic is not None:
+            raise ValueError(plastic)
         if self.bond_law != "brittle":
             law = f"bond_law {self.bond_law!r}"
             if self.model != "critical_stretch":
@@ -75,6 +87,13 @@ class Damage(Strict):
             for key in ("sed_softening", "weibull"):
                 if getattr(self, key) is not None:
                     raise ValueError(f"[{key}] does not combine with {law}; use bond_law 'brittle'")
+            return self
+        fatigue = fatigue_damage_errors(self)
+        if fatigue is not None:
+            raise ValueError(fatigue)
+        if self.model == "fatigue":
+            return self
+        if self.model == "plastic_strain":
             return self
         if self.model == "none":
             if self.critical_stretch is not None or self.fracture_energy is not None:
@@ -103,6 +122,25 @@ class Damage(Strict):
                 "or fracture_energy (G0, J/m^2)"
             )
         return self
+
+
+def _plastic_strain_error(d: Damage) -> str | None:
+    """``critical_plastic_strain`` goes with model ``plastic_strain`` and back; at most one
+    of critical_stretch and fracture_energy; no weibull or sed_softening."""
+    if d.model != "plastic_strain":
+        if d.critical_plastic_strain is not None:
+            return "[critical_plastic_strain] is only used with model 'plastic_strain'"
+        return None
+    if d.critical_plastic_strain is None:
+        return (
+            "[critical_plastic_strain] model 'plastic_strain' needs critical_plastic_strain "
+            "(the equivalent plastic strain at which a point's bonds break, > 0)"
+        )
+    if d.critical_stretch is not None and d.fracture_energy is not None:
+        return "[critical_stretch] give at most one of critical_stretch and fracture_energy"
+    if d.weibull is not None or d.sed_softening is not None:
+        return "[model] weibull and sed_softening need model 'critical_stretch'"
+    return None
 
 
 # --------------------------------------------------------------------------- checks
@@ -136,12 +174,29 @@ def bond_law_errors(deck: Any) -> Errors:
                     "(method pd, no hybrid) and adr solvers commit; use one of them",
                 )
             )
+    elif deck.damage.model == "plastic_strain" and getattr(mat, "plasticity", None) is None:
+        errors.append(
+            (
+                "damage.model",
+                "'plastic_strain' reads the equivalent plastic strain of an elastic-plastic "
+                "law: use material.model correspondence with material.plasticity (j2 or "
+                "drucker_prager), or damage.model critical_stretch",
+            )
+        )
     elif deck.damage.tensile_strength is not None and not mat.stress_tensor:
         errors.append(
             (
                 "damage.tensile_strength",
                 "the principal-stress criterion reads the stress tensor of a correspondence "
                 "model: use material.model correspondence, or a critical stretch",
+            )
+        )
+    if deck.damage.model == "plastic_strain" and deck.solver.type == "static":
+        errors.append(
+            (
+                "damage.model",
+                "'plastic_strain' breaks bonds in explicit and adr runs; the static solver "
+                "breaks them by critical stretch only: use solver.type adr",
             )
         )
     return errors

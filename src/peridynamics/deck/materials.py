@@ -15,7 +15,9 @@ from typing import Annotated, Any, ClassVar, Literal
 from pydantic import Discriminator, Field, Tag, model_validator
 
 from peridynamics.deck.damage import bond_law_errors, sed_softening_errors
+from peridynamics.deck.plasticity import AnyPlasticity, plasticity_errors
 from peridynamics.deck.types import Errors, NonNegFloat, NotBool, Num, PosFloat, Strict, tag_of
+from peridynamics.deck.viscoelastic import ViscoelasticSpec, viscoelastic_errors
 
 #: Young's modulus and density: finite and > 0, of any magnitude (not bounded by
 #: ``MAX_MAGNITUDE``): :func:`~peridynamics.deck.derived.derived_errors` names an absurd
@@ -97,12 +99,16 @@ class LPSMaterialSpec(FamilySpec):
     poisson_ratio: Annotated[float, Field(gt=-1.0, lt=0.5, allow_inf_nan=False), Num] = 0.25
     influence: Literal["constant", "inverse"] = "constant"
     viscosity: Viscosity | None = None
+    viscoelastic: ViscoelasticSpec | None = None  # deck/viscoelastic.py
 
     def deck_errors(self, deck: Any) -> Errors:
-        """The damage law, a 2-D or 3-D model, no SED softening."""
+        """The damage law, a 2-D or 3-D model, no SED softening; ``viscoelastic``'s
+        limits."""
         errors = bond_law_errors(deck)
         if deck.dim == 1:
             errors.append(("material.model", "lps is a 2-D / 3-D model; use pmb for bars"))
+        elif self.viscoelastic is not None:
+            errors += viscoelastic_errors(deck)
         return errors + sed_softening_errors(deck)
 
 
@@ -152,6 +158,7 @@ class CorrespondenceMaterialSpec(FamilySpec):
     stabilization: Literal["lbscmm", "silling2017", "none"] = "lbscmm"
     stabilization_g: PosFloat | None = None
     law: Literal["st_venant_kirchhoff", "linear_elastic"] = "st_venant_kirchhoff"
+    plasticity: AnyPlasticity | None = None  # history-dependent law (deck/plasticity.py)
 
     stress_tensor: ClassVar[bool] = True
 
@@ -169,6 +176,8 @@ class CorrespondenceMaterialSpec(FamilySpec):
         errors = bond_law_errors(deck)
         if deck.dim == 1:
             errors.append(("material.model", "correspondence is a 2-D / 3-D model"))
+        elif self.plasticity is not None:
+            errors += plasticity_errors(deck, "law" in self.model_fields_set)
         return errors + sed_softening_errors(deck)
 
 

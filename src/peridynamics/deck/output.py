@@ -7,6 +7,7 @@ from __future__ import annotations
 from typing import Any
 
 from peridynamics.deck.regions import check_len, check_nonzero
+from peridynamics.deck.thermal_coupling import coupling_of
 from peridynamics.deck.types import Errors
 from peridynamics.io.options import (
     CrackPathSpec,
@@ -92,14 +93,15 @@ def probe_errors(deck: Any, sets: set[str]) -> Errors:
                 )
             )
         heat = getattr(deck.solver, "type", "") in ("heat", "heat_steady")
-        if (probe.quantity == "temperature") != heat and probe.quantity not in (
-            "difference",
-            "sum",
-        ):
+        coupled = coupling_of(deck) is not None  # a thermo-mechanical run has both
+        combined = probe.quantity in ("difference", "sum")
+        allowed = coupled and probe.quantity == "temperature"
+        if (probe.quantity == "temperature") != heat and not combined and not allowed:
             errors.append(
                 (
                     f"output.probes.{n}.quantity",
-                    "temperature needs a heat solver (solver.type heat or heat_steady)"
+                    "temperature needs a heat solver (solver.type heat or heat_steady) or "
+                    "thermal.expansion with a mechanical solver"
                     if heat is False
                     else f"a heat solver records temperature, not {probe.quantity}",
                 )

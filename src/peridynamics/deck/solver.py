@@ -9,6 +9,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Discriminator, Field, Tag, model_validator
 
+from peridynamics.deck.fatigue import fatigue_errors
 from peridynamics.deck.types import Errors, NonNegFloat, Num, PosFloat, Strict, tag_of
 
 
@@ -112,6 +113,31 @@ class StaticSolverSpec(Strict):
         return _numba_only(data, "static")
 
 
+class FatigueSolverSpec(Strict):
+    """Fatigue by cycle jumping (``type: fatigue``, docs/theory_fatigue.md): static
+    equilibria at the peak load (the deck's loads at pseudo-time 1, reached in
+    ``load_steps``), between them a jump of N to the next bond whose remaining life is
+    spent (``damage.model: fatigue``); cycling between the peak and ``load_ratio`` R
+    times it, up to ``max_cycles``. Numba only, one rank."""
+
+    type: Literal["fatigue"]
+    load_ratio: Annotated[float, Field(ge=-1, lt=1, allow_inf_nan=False), Num] = 0.0
+    max_cycles: PosFloat = 1.0e6
+    batch_tolerance: NonNegFloat = 0.0
+    max_increment: PosFloat | None = None
+    load_steps: Annotated[int, Field(ge=1, le=1_000_000), Num] = 1
+    tolerance: Annotated[float, Field(gt=0, lt=1, allow_inf_nan=False), Num] = 1e-8
+    max_iterations: Annotated[int, Field(ge=1, le=10_000), Num] = 20
+    max_cutbacks: Annotated[int, Field(ge=0, le=60), Num] = 6
+    linear_solver: Literal["auto", "direct", "iterative"] = "auto"
+    max_solves: Annotated[int, Field(ge=1), Num] = 1_000_000
+
+    @model_validator(mode="before")
+    @classmethod
+    def _backend(cls, data: Any) -> Any:
+        return _numba_only(data, "fatigue")
+
+
 class HeatSolverSpec(Strict):
     """Transient heat conduction by forward Euler (``type: heat``,
     docs/theory_thermal.md): ``time_step`` or ``safety_factor`` times the stable step
@@ -153,6 +179,7 @@ SOLVER_SCHEMAS: dict[str, type[Strict]] = {
     "explicit": Solver,
     "adr": ADRSolverSpec,
     "static": StaticSolverSpec,
+    "fatigue": FatigueSolverSpec,
     "heat": HeatSolverSpec,
     "heat_steady": SteadyHeatSolverSpec,
 }
@@ -161,6 +188,7 @@ AnySolver = Annotated[
     Annotated[Solver, Tag("explicit")]
     | Annotated[ADRSolverSpec, Tag("adr")]
     | Annotated[StaticSolverSpec, Tag("static")]
+    | Annotated[FatigueSolverSpec, Tag("fatigue")]
     | Annotated[HeatSolverSpec, Tag("heat")]
     | Annotated[SteadyHeatSolverSpec, Tag("heat_steady")],
     Discriminator(tag_of("explicit", "type")),
@@ -168,8 +196,8 @@ AnySolver = Annotated[
 
 
 def solver_errors(deck: Any) -> Errors:
-    """Finite differences and hybrids are 1-D."""
+    """Finite differences and hybrids are 1-D; the fatigue solver and law go together."""
     sv = deck.solver
     if deck.dim != 1 and isinstance(sv, Solver) and (sv.method == "fdm" or sv.hybrid is not None):
         return [("solver.method", "finite differences and hybrids are 1-D")]
-    return []
+    return fatigue_errors(deck)

@@ -9,6 +9,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Field
 
+from peridynamics.deck.thermal_coupling import coupling_errors, coupling_of
 from peridynamics.deck.time_functions import ConstantTF, TimeFunctionSpec
 from peridynamics.deck.types import Errors, Finite, NonNegFloat, PosFloat, Strict
 
@@ -67,18 +68,27 @@ class Thermal(Strict):
     (J/(kg K), with ``material.density``), ``initial_temperature`` (K), the
     ``correction`` of the micro-conductivity (``surface``: the energy method per bond;
     ``bulk``: one factor from the largest family, for bodies completed by mirrored
-    layers; ``none``: the analytic value), and the ``conditions``."""
+    layers; ``none``: the analytic value), and the ``conditions``. With a mechanical
+    solver, thermal expansion: ``expansion`` alpha (1/K) from ``reference_temperature``
+    (K, default the initial temperature), ``coupling`` ``staggered`` (the explicit
+    solver conducts heat in sub-steps of each mechanical step) or ``prescribed`` (the
+    temperature stays the initial one and the held ones, no conduction; the default of
+    the quasi-static solvers); docs/theory_thermal.md."""
 
-    conductivity: PosFloat
-    specific_heat: PosFloat
+    conductivity: PosFloat | None = None
+    specific_heat: PosFloat | None = None
     initial_temperature: Finite = 0.0
     correction: Literal["surface", "bulk", "none"] = "surface"
     conditions: list[ThermalCondition] = []
+    expansion: Finite | None = None
+    reference_temperature: Finite | None = None
+    coupling: Literal["staggered", "prescribed"] | None = None
 
 
 def thermal_errors(deck: Any, sets: set[str]) -> Errors:
-    """A heat solver needs ``thermal`` and no mechanical conditions; ``thermal`` needs a
-    heat solver (thermo-mechanical coupling is not implemented yet); known node sets and
+    """A heat solver needs ``thermal`` and no mechanical conditions; ``thermal`` with a
+    mechanical solver needs ``thermal.expansion`` (:func:`coupling_errors`); heat
+    conduction needs the conductivity and the specific heat; known node sets and
     normals of the model's dimension."""
     errors: Errors = []
     heat = deck.solver.type in ("heat", "heat_steady")
@@ -86,13 +96,11 @@ def thermal_errors(deck: Any, sets: set[str]) -> Errors:
     if heat and th is None:
         errors.append(("thermal", f"solver.type {deck.solver.type} needs a thermal section"))
     if th is not None and not heat:
-        errors.append(
-            (
-                "thermal",
-                "a thermal section is run by solver.type heat or heat_steady (coupling to "
-                "the mechanics is not implemented yet)",
-            )
-        )
+        errors += coupling_errors(deck)
+    if th is not None and (heat or coupling_of(deck) == "staggered"):
+        for key in ("conductivity", "specific_heat"):
+            if getattr(th, key) is None:
+                errors.append((f"thermal.{key}", "heat conduction needs it: give a value"))
     if heat and deck.boundary_conditions:
         errors.append(
             (

@@ -9,7 +9,8 @@ that calls their kernels and the communicator. The order of one evaluation
    evaluation: every step in explicit dynamics, never inside a dynamic-relaxation or
    Newton iteration);
 2. the force model's pre-pass (per-point reductions such as the LPS dilatation);
-3. the force model's pure force pass;
+3. the force model's pure force pass (when committing, then the force model's
+   ``commit_history``: the plastic history of a path-dependent law);
 4. SED softening levels (committed with the damage), their new bond stiffness acting
    from the next evaluation on;
 5. contact; 6. mass damping; 7. viscous bond forces.
@@ -267,6 +268,8 @@ class Evaluator(Measures):
                 broken = law.commit(state)
             fm.prepass(state)
             fm.force(state)
+            if commit:
+                fm.commit_history(state)
         if sed is not None and commit:
             sed.update(state, energy_computed=energy_done)
         self._extras(state)
@@ -327,6 +330,7 @@ class Evaluator(Measures):
         broken = self.damage_law.commit(state)
         if self._sed is not None:
             self._sed.update(state)
+        self.force_model.commit_history(state, fresh=True)
         if broken and self.comm.size > 1:  # count the owned families' bonds only
             broken = self._owned_broken(False)
             state.bonds_broken = before + broken

@@ -191,6 +191,14 @@ class ForceModel(ABC):
         bond_based.bond_stretch(self.cloud.x, state.u, b.offsets, b.bond_j, out)
         return out
 
+    def commit_history(self, state: State, fresh: bool = False) -> None:  # noqa: B027
+        """Commit the history of a path-dependent constitutive law (plasticity): what
+        the last evaluation proposed becomes the history the next one starts from. The
+        evaluator calls it when the solver commits (every explicit step, an accepted
+        load step of dynamic relaxation); ``fresh``: recompute the proposal at
+        ``state.u`` first (the last evaluation may have been elsewhere). Default:
+        nothing (elastic laws)."""
+
     def tangent(self, state: State) -> sp.csr_matrix | None:
         """Analytic tangent K = -d(V f)/dq (N/m), shape (n c, n c) with c the dof
         components per point in the order of :meth:`dofs` (``dim`` for displacement-only

@@ -21,9 +21,12 @@ from typing import Any
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.families.base import ForceModel
 from peridynamics.families.correspondence import CorrespondenceForceModel, CorrespondenceMaterial
+from peridynamics.families.correspondence.thermal import CorrespondenceThermalForceModel
 from peridynamics.families.lps import LPSForceModel, LPSMaterial
+from peridynamics.families.lps.thermal import LPSThermalForceModel
 from peridynamics.families.micropolar import MicropolarForceModel, MicropolarMaterial
 from peridynamics.families.pmb import BondBasedMaterial, PMBForceModel
+from peridynamics.families.pmb.thermal import PMBThermalForceModel
 from peridynamics.families.pmb_softening import PMBSofteningForceModel, softening_force_model
 from peridynamics.geometry.cloud import PointCloud
 
@@ -60,6 +63,10 @@ class Family:
     builder : callable, optional
         ``(criterion, material, cloud, bonds, surface_correction) -> ForceModel`` for a
         family chosen by the damage section (it needs the law's parameters).
+    thermal : callable, optional
+        ``(force_model) -> ForceModel``: its thermal-expansion variant, which reads the
+        State's ``thermal_strain`` (:mod:`peridynamics.families.thermal`); None: the
+        family has no thermal expansion (``thermal.expansion`` is refused).
     """
 
     name: str
@@ -73,11 +80,12 @@ class Family:
     warp: bool = False
     rotations: bool = False
     builder: Callable[..., ForceModel] | None = None
+    thermal: Callable[[Any], ForceModel] | None = None
 
 
 _PMB = Family(
     "pmb", BondBasedMaterial, PMBForceModel, analytic_tangent=True, fused_step=True,
-    ghost_families=False, warp=True,
+    ghost_families=False, warp=True, thermal=PMBThermalForceModel.of,
 )  # fmt: skip
 
 #: every family, by name
@@ -101,7 +109,14 @@ FAMILIES: dict[str, Family] = {
         fused_step=True,
         warp=True,
     ),  # fmt: skip
-    "lps": Family("lps", LPSMaterial, LPSForceModel, analytic_tangent=True, warp=True),
+    "lps": Family(
+        "lps",
+        LPSMaterial,
+        LPSForceModel,
+        analytic_tangent=True,
+        warp=True,
+        thermal=LPSThermalForceModel.of,
+    ),
     "micropolar": Family(
         "micropolar",
         MicropolarMaterial,
@@ -111,7 +126,11 @@ FAMILIES: dict[str, Family] = {
         rotations=True,
     ),  # fmt: skip
     "correspondence": Family(
-        "correspondence", CorrespondenceMaterial, CorrespondenceForceModel, warp=True
+        "correspondence",
+        CorrespondenceMaterial,
+        CorrespondenceForceModel,
+        warp=True,
+        thermal=CorrespondenceThermalForceModel.of,
     ),
 }
 

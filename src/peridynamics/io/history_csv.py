@@ -1,10 +1,10 @@
 """``history.csv``: the histories of a run as one table, one row per history record.
 
-Columns, each headed ``name [unit]``: time, kinetic and strain energy, largest damage,
-specimen damage factor, every probe (in deck order), the stress-strain pair, the
-crack-tip position, the broken-bond crack length, and per rigid body its reaction
-force and displacement components. Only columns recorded at every history record
-appear (so the rows line up with ``time [s]``).
+Columns, each headed ``name [unit]``: time, the cycle count (fatigue runs), kinetic and
+strain energy, largest damage, specimen damage factor, every probe (in deck order), the
+stress-strain pair, the crack-tip position, the broken-bond crack length, and per rigid
+body its reaction force and displacement components. Only columns recorded at every
+history record appear (so the rows line up with ``time [s]``).
 """
 
 from __future__ import annotations
@@ -20,6 +20,7 @@ from peridynamics.io.options import Output
 
 BASE = (
     ("time_s", "time [s]"),
+    ("cycles", "cycles [-]"),  # fatigue runs: the cycle count N
     ("kinetic_energy_J", "kinetic_energy [J]"),
     ("strain_energy_J", "strain_energy [J]"),
     ("max_damage", "max_damage [-]"),

@@ -183,18 +183,24 @@ class HeatSolver(_HeatBase):
 
     def step(self, state: State) -> StepResult:
         """One forward-Euler step of ``dt``."""
-        T, t, dt = state["T"], state.t, self.dt
+        self.advance(state["T"], state.intact, state.t, self.dt, state["heat_in"])
+        state.t += self.dt
+        state.step += 1
+        return StepResult()
+
+    def advance(self, T: F, intact: NDArray[np.uint8], t: float, dt: float, heat_in: F) -> None:
+        """One forward-Euler step of ``dt`` (s) from ``t`` of the temperature ``T`` (n,)
+        (K) in place, the prescribed temperatures then held at ``t + dt``; adds the
+        heat the sources supplied (J) to ``heat_in`` (1,). The thermo-mechanical
+        coupling sub-cycles the conduction with it."""
         c = self.conduction
-        c.rate(T, state.intact, self._rate)
+        c.rate(T, intact, self._rate)
         self.source(T, t, self._src)
         self._src[self._held] = 0.0
         self._rate[self._held] = 0.0
-        state["heat_in"][0] += dt * float(np.dot(c.cloud.volume, self._src))
+        heat_in[0] += dt * float(np.dot(c.cloud.volume, self._src))
         kernels.euler_update(T, self._rate, self._src, c.inv_capacity, dt, T)
-        state.t = t + dt
-        state.step += 1
-        self.apply_temperatures(T, state.t)
-        return StepResult()
+        self.apply_temperatures(T, t + dt)
 
     def done(self, state: State) -> bool:
         """True after the run's steps."""

@@ -42,6 +42,13 @@ that falls apart (a singular system) ends the run with the event ``failed``.
 One :meth:`StaticSolver.step` is one equilibrium solve (a new load level, or the same
 level after bonds broke): histories record every solve, which is the
 load-displacement curve with its events.
+
+Path-dependent laws (``material.plasticity``): every evaluation reads the committed
+history and proposes a trial one; the force model's history is committed
+(:meth:`~peridynamics.families.base.ForceModel.commit_history`) on a converged solve
+only, never inside the Newton iterations. A cut-back or a failed level therefore starts
+again from the last commit, and the tangent (finite differences for correspondence, on a
+copy of the state) perturbs the displacement about that committed history.
 """
 
 from __future__ import annotations
@@ -364,6 +371,9 @@ class StaticSolver(StaticDofs):
             self.model.evaluate(s, commit=False)
         if converged:
             self.lam = target
+            # the accepted equilibrium's history becomes the committed one (never inside
+            # Newton: a cut-back or a failed level restarts from the last commit)
+            self.model.force_model.commit_history(s, fresh=True)
             self._pending = self._violations(s)
         elif self._failed is None:
             self._failed = (

@@ -55,6 +55,11 @@ def check_arguments(
 def check_damage(model: Evaluator) -> None:
     """ValueError for a damage model the static solver cannot run."""
     law = model.damage_law
+    if getattr(law, "name", "") == "plastic_strain":
+        raise ValueError(
+            "[damage.model] 'plastic_strain' breaks bonds in explicit and adr runs; the "
+            "static solver breaks them by critical stretch only: use solver.type adr"
+        )
     if math.isfinite(getattr(law, "tensile_strength", math.inf)):
         raise ValueError(
             "[damage.tensile_strength] the principal-stress failure criterion breaks "

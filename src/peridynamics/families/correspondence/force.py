@@ -203,15 +203,28 @@ class CorrespondenceForceModel(LargestStretchPass, ForceModel):
         n = len(b.offsets) - 1
         state["family_active"][:n] = active[:n]
         state["stabilization"][:n] = self._stabilization(omega0, active)[:n]
+        self._force_tensor(state, fgrad[:n], kinv[:n], sigma_s[:n], active[:n], work[:n], amat[:n])
+
+    def _force_tensor(
+        self,
+        state: State,
+        fgrad: NDArray[np.float64],
+        kinv: NDArray[np.float64],
+        sigma_s: NDArray[np.float64],
+        active: NDArray[np.float64],
+        work: NDArray[np.float64],
+        amat: NDArray[np.float64],
+    ) -> None:
+        """A = (P(F) - sigma^s) K^-1 of the owned points (n, d, d) into ``amat`` (a
+        law with history overrides this: :mod:`.plastic_force`)."""
         law_id = _LAW_KERNELS.get(self.law.name)
         if law_id is not None:
             kernels.force_tensor(
-                fgrad[:n], kinv[:n], sigma_s[:n], active[:n], self.law.lame, self.law.shear,
-                law_id, work[:n], amat[:n],
-            )  # fmt: skip
+                fgrad, kinv, sigma_s, active, self.law.lame, self.law.shear, law_id, work, amat
+            )
         else:  # any other law through its NumPy interface
-            piola = self.law.first_piola(fgrad[:n]) * active[:n, None, None]
-            amat[:n] = np.einsum("nab,nbc->nac", piola - sigma_s[:n], kinv[:n])
+            piola = self.law.first_piola(fgrad) * active[:, None, None]
+            amat[...] = np.einsum("nab,nbc->nac", piola - sigma_s, kinv)
 
     def _active_rows(self, n_all: int) -> NDArray[np.float64]:
         """The degenerate flags of the last full pre-pass (n_all,), kept with K^-1."""

@@ -43,7 +43,7 @@ from __future__ import annotations
 import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
-from typing import ClassVar, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -51,6 +51,7 @@ from numpy.typing import NDArray
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.families import moduli
 from peridynamics.families.correspondence.force import CorrespondenceForceModel
+from peridynamics.families.correspondence.plastic_force import PlasticCorrespondenceModel
 from peridynamics.geometry.cloud import PointCloud
 
 Stabilization = Literal["none", "silling2017", "lbscmm"]
@@ -151,7 +152,11 @@ class CorrespondenceMaterial:
         Silling's G over the horizon volume (dimensionless, > 0); used by
         ``silling2017`` only.
     law : {"st_venant_kirchhoff", "linear_elastic"}
-        Constitutive law.
+        Constitutive law (elastic; with ``plasticity`` the elastic part is linear in the
+        corotated strain and this key is not read).
+    plasticity : J2Plasticity, DruckerPrager, a PlasticLaw or None
+        A history-dependent law (:mod:`~peridynamics.families.correspondence.plasticity`);
+        None: elastic.
 
     Raises
     ------
@@ -165,6 +170,7 @@ class CorrespondenceMaterial:
     stabilization: Stabilization = "lbscmm"
     stabilization_g: float = 0.1
     law: str = "st_venant_kirchhoff"
+    plasticity: Any = None
 
     def __post_init__(self) -> None:
         moduli.check_isotropic_constants(
@@ -254,5 +260,8 @@ class CorrespondenceMaterial:
     ) -> CorrespondenceForceModel:
         """The correspondence force model on ``cloud`` and ``bonds``. The deformation
         gradient is exact for every affine field at every point, surfaces included, so
-        no surface correction is applied (``surface_correction`` is ignored)."""
+        no surface correction is applied (``surface_correction`` is ignored). With
+        ``plasticity``: :class:`~.plastic_force.PlasticCorrespondenceModel`."""
+        if self.plasticity is not None:
+            return PlasticCorrespondenceModel(cloud, bonds, self, self.plasticity)
         return CorrespondenceForceModel(cloud, bonds, self)

@@ -63,11 +63,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
 
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.families import moduli
 from peridynamics.families.lps.force import LPSForceModel
+from peridynamics.families.lps.viscoelastic import ViscoelasticLPSModel
 from peridynamics.geometry.cloud import PointCloud
 
 Influence = Literal["constant", "inverse"]
@@ -121,6 +122,9 @@ class LPSMaterial:
         rho (kg/m^3), finite and > 0.
     influence : {"constant", "inverse"}
         Influence function omega(|xi|): 1 or delta / |xi|.
+    viscoelastic : Viscoelasticity or None
+        A standard-linear-solid deviatoric response (3-D,
+        :mod:`~peridynamics.families.lps.viscoelastic`); None: elastic.
 
     Raises
     ------
@@ -132,6 +136,7 @@ class LPSMaterial:
     poisson_ratio: float
     density: float
     influence: Influence = "constant"
+    viscoelastic: Any = None
 
     def __post_init__(self) -> None:
         moduli.check_isotropic_constants(
@@ -256,7 +261,13 @@ class LPSMaterial:
     ) -> LPSForceModel:
         """The :class:`~peridynamics.families.lps.force.LPSForceModel` of this material;
         ``surface_correction=True`` calibrates the influence function of every point
-        (:func:`~peridynamics.families.calibration.calibrate_influence`)."""
+        (:func:`~peridynamics.families.calibration.calibrate_influence`); with
+        ``viscoelastic`` the
+        :class:`~peridynamics.families.lps.viscoelastic.ViscoelasticLPSModel`."""
+        if self.viscoelastic is not None:
+            return ViscoelasticLPSModel(
+                cloud, bonds, self, self.viscoelastic, surface_correction=surface_correction
+            )
         return LPSForceModel(cloud, bonds, self, surface_correction=surface_correction)
 
 

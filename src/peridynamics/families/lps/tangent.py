@@ -11,7 +11,9 @@ if TYPE_CHECKING:
     from peridynamics.state import State
 
 
-def lps_tangent(model: Any, state: State) -> sp.csr_matrix:
+def lps_tangent(
+    model: Any, state: State, thermal_extension: np.ndarray | None = None
+) -> sp.csr_matrix:
     """Analytic tangent K = -d(V f)/du at ``state`` (N/m), shape (n dim, n dim), CSR.
 
     With per intact bond k = (i, j) the deformed direction n_k = y_k / r_k, the
@@ -25,7 +27,9 @@ def lps_tangent(model: Any, state: State) -> sp.csr_matrix:
       (the bond part is symmetric because ``V_i wvf_(i,j) = V_j wv_(j,i)``).
 
     Reads ``state.u`` and ``state.intact``; the dilatation is recomputed from u.
-    Serial models only: every point must own its family (no ghost rows).
+    ``thermal_extension`` (n_bonds,) (m), optional: subtracted from every extension
+    e_k (thermal expansion, :mod:`peridynamics.families.lps.thermal`; its derivative
+    is e's). Serial models only: every point must own its family (no ghost rows).
     """
 
     b = model.bonds
@@ -45,6 +49,8 @@ def lps_tangent(model: Any, state: State) -> sp.csr_matrix:
     y = xi + eta
     r = np.sqrt(np.einsum("ij,ij->i", y, y))
     e = np.einsum("ij,ij->i", eta, 2.0 * xi + eta) / (r + length)
+    if thermal_extension is not None:
+        e = e - thermal_extension[keep]
     nv = y / r[:, None]
     ts = model.theta_scale
     theta = ts * np.bincount(bi, wv * length * e, minlength=n_all)

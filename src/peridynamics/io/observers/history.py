@@ -151,6 +151,8 @@ class History(Observer):
         """Append one record."""
         m, r = self.model, ctx.records
         r["time_s"].append(s.t)
+        if "fatigue_cycles" in s:  # a fatigue run: the cycle count N of this record
+            r.setdefault("cycles", []).append(float(s["fatigue_cycles"][0]))
         kinetic, strain = ctx.energies(s)
         r["kinetic_energy_J"].append(kinetic)
         r["strain_energy_J"].append(strain)
