@@ -190,3 +190,23 @@ def test_an_interrupt_wrapped_by_a_c_extension_is_still_an_interrupt() -> None:
             raise RuntimeError("chained") from exc
     except RuntimeError as chained:
         assert _wrapped_signal(chained) == signal.SIGINT
+
+
+def test_the_command_line_starts_without_numba() -> None:
+    """Parsing the command line imports the deck but no model family: Numba (and its
+    0.5 s of imports, during which a signal once went astray in CI) loads only when a
+    command builds a model. A deck module that imports the family registry at its top
+    (``deck/thermal_coupling.py`` did) breaks this."""
+    code = (
+        "import sys\n"
+        "from peridynamics.cli.entry import run_command\n"
+        "heavy = sorted(m for m in sys.modules if m == 'numba' or "
+        "m.startswith('peridynamics.families'))\n"
+        "print(','.join(heavy))\n"
+    )
+    got = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, env=subprocess_env(),
+        timeout=120,
+    )  # fmt: skip
+    assert got.returncode == 0, got.stderr
+    assert got.stdout.strip() == "", got.stdout

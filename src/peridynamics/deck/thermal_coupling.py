@@ -6,7 +6,6 @@ from __future__ import annotations
 from typing import Any
 
 from peridynamics.deck.types import Errors
-from peridynamics.families.registry import FAMILIES
 
 #: the mechanical solvers that run the coupling
 COUPLED_SOLVERS = ("explicit", "adr", "static")
@@ -25,7 +24,12 @@ def coupling_of(deck: Any) -> str | None:
 
 
 def _family_errors(deck: Any) -> Errors:
-    """The family must declare thermal expansion; no variant the damage section picks."""
+    """The family must declare thermal expansion; no variant the damage section picks.
+    (The registry is imported here, not at the top: importing the deck must not import
+    the families and their Numba kernels, which would lengthen the command line's
+    start-up.)"""
+    from peridynamics.families.registry import FAMILIES
+
     model = deck.material.model
     family = FAMILIES.get(model)
     if family is None or family.thermal is None:
