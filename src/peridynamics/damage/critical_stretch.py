@@ -69,6 +69,16 @@ class CriticalStretch:
         return CriticalStretchLaw(self, x, bonds, global_ids)
 
 
+def break_proposed(state: State, proposed: NDArray[np.uint8], count: int) -> int:
+    """Break the ``count`` bonds flagged in ``proposed`` (n_bonds,) for good: clear their
+    ``state.intact`` and add them to ``state.bonds_broken``; returns ``count``. The
+    commit of every law that proposes by a flag per bond."""
+    if count:
+        state.intact[proposed.view(bool)] = 0
+        state.bonds_broken += count
+    return count
+
+
 def family_minimum(bonds: Bonds, s0: NDArray[np.float64]) -> NDArray[np.float64]:
     """Smallest bond threshold (s0_i + s0_j)/2 over each family, shape (n_points,).
 
@@ -185,9 +195,5 @@ class CriticalStretchLaw(DamageLaw):
         return self._count
 
     def commit(self, state: State) -> int:
-        if self._count == 0:
-            return 0
-        state.intact[self._proposed.view(bool)] = 0
-        n, self._count = self._count, 0
-        state.bonds_broken += n
+        n, self._count = break_proposed(state, self._proposed, self._count), 0
         return n

@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from peridynamics.bonds.bonds import Bonds
+from peridynamics.damage.critical_stretch import break_proposed
 from peridynamics.families.base import DamageLaw
 from peridynamics.kernels.fatigue import advance_life, fatigue_rates
 
@@ -160,9 +161,5 @@ class RemainingLifeLaw(DamageLaw):
 
     def commit(self, state: State) -> int:
         """Break the proposed bonds."""
-        if self._count == 0:
-            return 0
-        state.intact[self._proposed.view(bool)] = 0
-        n, self._count = self._count, 0
-        state.bonds_broken += n
+        n, self._count = break_proposed(state, self._proposed, self._count), 0
         return n
