@@ -49,6 +49,7 @@ class CrackLength(Observer):
         }
         # the energy of the broken bonds (J) and G (J/m^2): bond-based PMB, brittle
         self.energy = supports_broken_bond_energy(model)
+        self._energy_last: tuple[int, float] | None = None  # (bonds_broken, energy)
         self.meter: CrackMeter | None = None
         self._last: tuple[int, float] | None = None  # (bonds_broken, value) of the last record
 
@@ -71,10 +72,16 @@ class CrackLength(Observer):
 
     def broken_energy(self, s: State, session: Any = None) -> float:
         """Energy (J) the bonds broken during the run stored at their threshold
-        (:func:`~peridynamics.analysis.energy_release.broken_bond_energy`)."""
+        (:func:`~peridynamics.analysis.energy_release.broken_bond_energy`), reused while
+        no further bond broke."""
+        if self._energy_last is not None and self._energy_last[0] == s.bonds_broken:
+            return self._energy_last[1]  # no further bond broke since the last record
         if session is not None:  # every rank its owned bonds
-            return float(session.call("call", _energy_on_ranks))
-        return broken_bond_energy(self.model, s.intact)
+            e = float(session.call("call", _energy_on_ranks))
+        else:
+            e = broken_bond_energy(self.model, s.intact)
+        self._energy_last = (s.bonds_broken, e)
+        return e
 
     def on_start(self, ctx: RunContext, s: State, resumed: bool) -> None:
         ctx.records.setdefault(self.keys["history"], [])
