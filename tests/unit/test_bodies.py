@@ -11,7 +11,8 @@ from peridynamics import BondBasedMaterial, Evaluator, build_bonds
 from peridynamics import deck as dk
 from peridynamics.app.run import Simulation
 from peridynamics.bodies.build import select_bonds
-from peridynamics.bodies.composite import BodiesDamage, BodiesMaterial, BodyPart
+from peridynamics.bodies.composite import BodiesMaterial, BodyPart
+from peridynamics.bodies.composite_damage import BodiesDamage
 from peridynamics.bodies.interface import InterfaceBonds
 from peridynamics.build.errors import SetupError
 from peridynamics.damage import CriticalStretch

@@ -137,13 +137,14 @@ def select_bonds(bonds: Bonds, keep: NDArray[np.bool_]) -> Bonds:
 
 
 def split_bonds(
-    cloud: PointCloud, bonds: Bonds, layout: BodyLayout
+    cloud: PointCloud, bonds: Bonds, layout: BodyLayout, n_checked: int | None = None
 ) -> tuple[Bonds, NDArray[np.int64]]:
     """(bonds within bodies, body index of every point). Raises when a point of some
-    body has no bond to its own body."""
+    body has no bond to its own body (of the first ``n_checked`` points: a rank of a
+    decomposed run checks its owned points, not its ghosts)."""
     body = layout.body_of_points()
     within = select_bonds(bonds, body[bonds.bond_i] == body[bonds.bond_j])
-    lonely = np.flatnonzero(np.diff(within.offsets) == 0)
+    lonely = np.flatnonzero(np.diff(within.offsets)[:n_checked] == 0)
     if lonely.size:
         k = int(lonely[0])
         raise ValueError(
@@ -167,33 +168,41 @@ def build_interfaces(
     bonds_all: Bonds,
     body: NDArray[np.int64],
     layout: BodyLayout,
-    materials: Sequence[Any],
+    materials: dict[str, Any],
+    any_rank: Callable[[bool], bool] = bool,
 ) -> list[InterfaceBonds]:
-    """Bonded interfaces from the deck's ``interfaces`` (``contact`` ones add nothing)."""
+    """Bonded interfaces from the deck's ``interfaces`` (``contact`` ones add nothing).
+
+    ``materials`` maps every body's name to its material; ``layout`` holds the bodies
+    with points here (a rank of a decomposed run may hold none of a body: its interface
+    bonds there are none); ``any_rank`` tells whether a condition holds on any rank."""
     out = []
-    seen: set[tuple[int, int]] = set()
+    seen: set[tuple[str, str]] = set()
     for k, spec in enumerate(specs):
         path = f"interfaces.{k}"
-        try:
-            a, b = (layout.names.index(n) for n in spec.bodies)
-        except ValueError:
+        unknown = [n for n in spec.bodies if n not in materials]
+        if unknown:
             raise ValueError(
-                f"{path}.bodies: {spec.bodies} names an unknown body; bodies are "
-                f"{list(layout.names)}"
-            ) from None
-        pair = (min(a, b), max(a, b))
+                f"{path}.bodies: {spec.bodies} names an unknown body; bodies are {list(materials)}"
+            )
+        pair = (min(spec.bodies), max(spec.bodies))
         if pair in seen:
             raise ValueError(f"{path}.bodies: the interface {spec.bodies} is given twice")
         seen.add(pair)
         if spec.type == "contact":
             continue
-        mask = interface_pairs(bonds_all, body, a, b)
-        if not mask.any():
+        if all(n in layout.names for n in spec.bodies):
+            a, b = (layout.names.index(n) for n in spec.bodies)
+            mask = interface_pairs(bonds_all, body, a, b)
+        else:
+            mask = np.zeros(bonds_all.n_bonds, dtype=bool)
+        if not any_rank(bool(mask.any())):
             raise ValueError(
                 f"{path}: bodies {spec.bodies[0]!r} and {spec.bodies[1]!r} are farther apart "
                 "than the horizon: no interface bond; use type 'contact' or move them"
             )
-        mat = interface_micromodulus(materials[a], materials[b], spec.stiffness_factor)
+        ma, mb = (materials[n] for n in spec.bodies)
+        mat = interface_micromodulus(ma, mb, spec.stiffness_factor)
         c_i = mat.micromodulus_constant(
             cloud.dim, bonds_all.horizon, cloud.cross_section, cloud.plane
         )

@@ -25,6 +25,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from peridynamics.bodies.composite_damage import CompositeDamageLaw
 from peridynamics.bodies.interface import InterfaceBonds
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.families.base import DamageLaw, FieldSpec, ForceModel, FusedStep
@@ -186,6 +187,8 @@ class CompositeForceModel(ForceModel):
         off = self.bonds.offsets
         self.bond_slices = [slice(int(off[p.start]), int(off[p.stop])) for p in self.parts]
         self.interfaces = tuple(interfaces)
+        #: whether each body's last fused pass counted its broken bonds per point
+        self.counted: dict[str, bool] = {}
         self._fields = self._merge_fields()
         self.linear = all(getattr(m, "linear", False) for m in self.models)
 
@@ -238,8 +241,11 @@ class CompositeForceModel(ForceModel):
         PMB, the softening bond laws), then the interface bonds. Returns the bonds
         broken."""
         broken = 0
-        for m, part_law, view in zip(self.models, law.laws, self.views(state), strict=True):
+        for p, m, part_law, view in zip(
+            self.parts, self.models, law.laws, self.views(state), strict=True
+        ):
             step = m.fused_step(view, part_law)
+            self.counted[p.name] = step is not None and step.counted
             if step is not None:
                 broken += step.broken
             else:
@@ -270,9 +276,12 @@ class CompositeForceModel(ForceModel):
             interface_intact = np.concatenate([f.bonds.bond_intact for f in self.interfaces])
         b = self.bonds
         n = self.n_points
-        starts = b.offsets[:-1]
-        total = np.add.reduceat(b.bond_volume, starts)
-        lost = np.add.reduceat(b.bond_volume * (intact == 0), starts)
+        rows = np.flatnonzero(np.diff(b.offsets) > 0)  # a ghost (MPI) may have no family
+        starts = b.offsets[rows]
+        total, lost = np.zeros(n), np.zeros(n)
+        if rows.size:
+            total[rows] = np.add.reduceat(b.bond_volume, starts)
+            lost[rows] = np.add.reduceat(b.bond_volume * (intact == 0), starts)
         k = 0
         for f in self.interfaces:
             fb = f.bonds
@@ -281,7 +290,7 @@ class CompositeForceModel(ForceModel):
                 broken = interface_intact[k : k + f.n_bonds] == 0
                 lost += np.bincount(fb.bond_i, weights=fb.bond_volume * broken, minlength=n)
             k += f.n_bonds
-        return lost / total
+        return np.divide(lost, total, out=np.zeros(n), where=total > 0)
 
     def init_state(self, state: State) -> None:
         """Interface bonds start as built (pre-cracks cut them too)."""
@@ -360,64 +369,23 @@ class CompositeForceModel(ForceModel):
             m.on_restore(view)
 
 
-class CompositeDamageLaw(DamageLaw):
-    """The damage laws of several bodies and the breaking of interface bonds."""
-
-    name = "bodies"
-
-    def __init__(self, model: CompositeForceModel, laws: Sequence[DamageLaw]) -> None:
-        self.model = model
-        self.laws = tuple(laws)
-
-    @property
-    def active(self) -> bool:
-        return any(law.active for law in self.laws) or any(
-            f.breakable for f in self.model.interfaces
-        )
-
-    def bind(self, force_model: ForceModel) -> None:
-        """Bind each body's law to its body's force model (laws that read stresses)."""
-        for law, m in zip(self.laws, self.model.models, strict=True):
-            law.bind(m)
-
-    def trial(self, state: State) -> int:
-        n = 0
-        for law, view in zip(self.laws, self.model.views(state), strict=True):
-            if law.active:
-                n += law.trial(view)
-        k = 0
-        for f in self.model.interfaces:
-            n += f.trial(self.model.cloud.x, state.u, state["interface_intact"][k : k + f.n_bonds])
-            k += f.n_bonds
-        return n
-
-    def commit(self, state: State) -> int:
-        n = 0
-        for law, view in zip(self.laws, self.model.views(state), strict=True):
-            if law.active:
-                n += law.commit(view)
-        k = 0
-        for f in self.model.interfaces:
-            n += f.commit(state["interface_intact"][k : k + f.n_bonds])
-            k += f.n_bonds
-        state.bonds_broken += n
-        return n
-
-
 @dataclass(frozen=True)
 class BodiesMaterial:
     """The materials of several bodies, as the evaluator sees one material.
 
     ``density`` is per point (kg/m^3, shape (n,)); the scalar properties the extras read
-    (``youngs_modulus``, ``micromodulus_constant``: contact stiffness) are the first
+    (``youngs_modulus``, ``micromodulus_constant``: contact stiffness) are the main
     body's."""
 
     parts: tuple[BodyPart, ...]
     interfaces: tuple[InterfaceBonds, ...] = ()
+    #: the deck's main body's material (None: the first part's; a rank of a decomposed
+    #: run may hold another body first)
+    main_material: Any = None
 
     @property
     def main(self) -> Any:
-        return self.parts[0].material
+        return self.parts[0].material if self.main_material is None else self.main_material
 
     @property
     def density(self) -> NDArray[np.float64]:
@@ -438,20 +406,3 @@ class BodiesMaterial:
         self, cloud: PointCloud, bonds: Bonds, surface_correction: bool = False
     ) -> CompositeForceModel:
         return CompositeForceModel(cloud, bonds, self.parts, surface_correction, self.interfaces)
-
-
-@dataclass(frozen=True)
-class BodiesDamage:
-    """The damage criteria of several bodies. Their law needs the composite model, so
-    the evaluator builds it after the force model (:meth:`law_for`, not ``law``)."""
-
-    parts: tuple[BodyPart, ...]
-
-    def law_for(self, model: CompositeForceModel) -> CompositeDamageLaw:
-        """One law per body on its own points and bonds (random fields drawn by the
-        model-wide point id)."""
-        laws = []
-        for p, m in zip(self.parts, model.models, strict=True):
-            ids = np.arange(p.start, p.stop, dtype=np.int64)
-            laws.append(p.damage.law(m.cloud.x, m.bonds, ids))
-        return CompositeDamageLaw(model, laws)

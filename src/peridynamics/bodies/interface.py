@@ -69,6 +69,11 @@ class InterfaceBonds:
         return self.bonds.n_bonds
 
     @property
+    def proposed(self) -> NDArray[np.uint8]:
+        """The last trial's proposal (n_bonds,) uint8."""
+        return self._proposed
+
+    @property
     def breakable(self) -> bool:
         """True when the bonds can break."""
         return math.isfinite(self.critical_stretch) and self.n_bonds > 0

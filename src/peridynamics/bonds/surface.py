@@ -119,6 +119,10 @@ def bond_factors_from_point_ratios(
         acc = np.zeros(b - a)
         for k in range(dim):  # loop over the (<= 3) directions only
             ri, rj = ratios[k][bi], ratios[k][bj]
+            # a far end with no family here (a second-layer ghost of a rank whose bodies
+            # are set up without an exchange, parallel/bodies.py) has no ratio: only a
+            # ghost's bonds reach it, whose forces no rank uses; take the near end's
+            rj = np.where(np.isfinite(rj), rj, ri)
             complete = (np.abs(ri - 1.0) <= COMPLETE_TOL) | (np.abs(rj - 1.0) <= COMPLETE_TOL)
             g_k = np.where(complete, 1.0, 0.5 * (ri + rj))
             acc += (n_hat[:, k] / g_k) ** 2

@@ -18,12 +18,12 @@ from numpy.typing import NDArray
 from peridynamics import deck as dk
 from peridynamics.bodies.build import BodyLayout, assemble_points, build_interfaces, split_bonds
 from peridynamics.bodies.composite import (
-    BodiesDamage,
     BodiesMaterial,
     BodyPart,
     sub_bonds,
     sub_cloud,
 )
+from peridynamics.bodies.composite_damage import BodiesDamage
 from peridynamics.bodies.rigid import RigidBody, RigidSystem
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.build.errors import SetupError
@@ -31,7 +31,7 @@ from peridynamics.build.geometry import geometry_cloud
 from peridynamics.build.loads import time_function
 from peridynamics.build.materials import build_damage, build_material
 from peridynamics.build.regions import to_region
-from peridynamics.communicator import active_comm
+from peridynamics.communicator import SERIAL, active_comm, using
 from peridynamics.evaluation import Evaluator
 from peridynamics.geometry.cloud import PointCloud
 
@@ -58,15 +58,26 @@ def build_body_points(deck: dk.Deck, main: PointCloud) -> tuple[PointCloud, Body
 
 
 def body_layout(deck: dk.Deck, cloud: PointCloud) -> BodyLayout:
-    """Where each body's points are, from the body node sets of a built cloud."""
-    names = ("main", *(b.name for b in deck.bodies))
-    starts = [0]
-    for name in names:
+    """Where each body's points are, from the body node sets of a built cloud: the
+    bodies in point order (deck order in one process; on a rank of a decomposed run
+    the owned body first, and only the bodies it holds points of)."""
+    ranges = []
+    for name in ("main", *(b.name for b in deck.bodies)):
         idx = cloud.node_set(name)
-        if int(idx[0]) != starts[-1] or int(idx[-1]) != starts[-1] + len(idx) - 1:
+        if len(idx) == 0:
+            continue  # a rank holds no point of this body
+        if int(idx[-1]) - int(idx[0]) != len(idx) - 1:
             raise ValueError(f"the points of body {name!r} are not contiguous")
-        starts.append(starts[-1] + len(idx))
-    return BodyLayout(names, tuple(starts))
+        ranges.append((int(idx[0]), len(idx), name))
+    ranges.sort()
+    starts = [0]
+    for start, n, name in ranges:
+        if start != starts[-1]:
+            raise ValueError(f"the points of body {name!r} do not follow the previous body's")
+        starts.append(start + n)
+    if starts[-1] != cloud.n_points:
+        raise ValueError("the bodies do not cover every point")
+    return BodyLayout(tuple(r[2] for r in ranges), tuple(starts))
 
 
 def _body_cloud(cloud: PointCloud, start: int, stop: int) -> PointCloud:
@@ -96,13 +107,13 @@ def build_bodies_model(
             "SED softening is built for single-body decks; use a softening bond law "
             "(damage.bond_law) with several bodies",
         )
+    comm = active_comm()
     try:
-        bonds, body = split_bonds(cloud, bonds_all, layout)
+        bonds, body = split_bonds(cloud, bonds_all, layout, n_checked=comm.n_owned)
     except ValueError as exc:
         raise SetupError("bodies", str(exc)) from None
-    parts, materials = [], []
-    for k, name in enumerate(layout.names):
-        spec = deck.bodies[k - 1] if k else None
+    materials, specs = {}, {}
+    for k, spec in enumerate((None, *deck.bodies)):
         m_spec = deck.material if spec is None or spec.material is None else spec.material
         d_spec = deck.damage if spec is None or spec.damage is None else spec.damage
         key = "material" if spec is None or spec.material is None else f"bodies.{k - 1}.material"
@@ -114,26 +125,38 @@ def build_bodies_model(
             material = build_material(m_spec)
         except SetupError as exc:
             raise SetupError(key, str(exc).split(": ", 1)[-1]) from None
+        name = "main" if spec is None else spec.name
+        materials[name], specs[name] = material, (m_spec, d_spec)
+    parts = []
+    for k, name in enumerate(layout.names):
+        m_spec, d_spec = specs[name]
         start, stop = layout.range_of(k)
         local = _body_cloud(cloud, start, stop)
-        damage = build_damage(d_spec, m_spec, material, local, sub_bonds(bonds, start, stop))
-        parts.append(BodyPart(name, start, stop, material, damage))
-        materials.append(material)
+        damage = build_damage(d_spec, m_spec, materials[name], local, sub_bonds(bonds, start, stop))
+        parts.append(BodyPart(name, start, stop, materials[name], damage))
     try:
-        interfaces = build_interfaces(deck.interfaces, cloud, bonds_all, body, layout, materials)
+        interfaces = build_interfaces(
+            deck.interfaces, cloud, bonds_all, body, layout, materials,
+            any_rank=comm.any,
+        )  # fmt: skip
     except ValueError as exc:
         raise SetupError("interfaces", str(exc)) from None
     try:
-        return Evaluator(
-            cloud,
-            bonds,
-            BodiesMaterial(tuple(parts), tuple(interfaces)),
-            BodiesDamage(tuple(parts)),
-            body_forces,
-            surface_correction=deck.discretisation.surface_correction,
-            contact=contact,
-            damping=getattr(deck.solver, "damping", 0.0),
-        )
+        # each body's model is made from the points held here alone: on a rank of a
+        # decomposed run the ghosts it reads have their families (parallel/bodies.py), so
+        # no body's set-up exchanges anything (the bodies held differ between ranks)
+        with using(SERIAL):
+            return Evaluator(
+                cloud,
+                bonds,
+                BodiesMaterial(tuple(parts), tuple(interfaces), materials["main"]),
+                BodiesDamage(tuple(parts)),
+                body_forces,
+                surface_correction=deck.discretisation.surface_correction,
+                contact=contact,
+                damping=getattr(deck.solver, "damping", 0.0),
+                comm=comm,
+            )
     except ValueError as exc:
         raise SetupError("bodies", str(exc)) from None
 

@@ -3,7 +3,9 @@
 A body that is a regular grid is made by every rank without the global point cloud:
 each makes only its owned points and ghosts (:mod:`peridynamics.build.windowed`).
 Other bodies (jittered or mesh geometries, several bodies) are built whole on every
-rank, which then cuts out its points and ghosts (:mod:`peridynamics.parallel.local`).
+rank, which then cuts out its points and ghosts (:mod:`peridynamics.parallel.local`;
+with several bodies each rank owns points of one body,
+:mod:`peridynamics.parallel.bodies`).
 Either way a rank builds the bonds of its owned points and of the first ghost layer on
 that local cloud, then the model, loads and solver exactly as a serial run does, with
 the MPI communicator active (:func:`~peridynamics.communicator.using`).
@@ -14,13 +16,21 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
+from numpy.typing import NDArray
+
 from peridynamics import deck as dk
 from peridynamics.bonds.partial_volume import search_radius
-from peridynamics.build.bodies import attach_rigid_bodies, has_bodies
+from peridynamics.build.bodies import (
+    attach_rigid_bodies,
+    body_layout,
+    build_bodies_model,
+    has_bodies,
+)
 from peridynamics.build.cloud import build_bonds_for, build_cloud
 from peridynamics.build.errors import SetupError
 from peridynamics.build.loads import build_conditions
-from peridynamics.build.materials import build_model
+from peridynamics.build.materials import build_contact, build_material, build_model
 from peridynamics.build.plausibility import warn_horizon
 from peridynamics.build.solvers import build_solver
 from peridynamics.build.windowed import agreed, cloud_meta, conditions, deck_lattice
@@ -28,6 +38,7 @@ from peridynamics.build.windowed import local_cloud as windowed_cloud
 from peridynamics.communicator import using
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.geometry.lattice import Lattice
+from peridynamics.parallel.bodies import decompose_bodies
 from peridynamics.parallel.local import (
     decompose,
     local_cloud,
@@ -47,8 +58,6 @@ def _refuse(deck: dk.Deck, size: int) -> None:
     if isinstance(s, dk.Solver) and (s.hybrid is not None or s.method == "fdm"):
         key = "solver.hybrid" if s.hybrid is not None else "solver.method"
         raise SetupError(key, f"hybrid and finite-difference runs are 1-D and serial; {how}")
-    if has_bodies(deck):
-        raise SetupError("bodies", f"several bodies are not distributed yet; {how}")
     if getattr(deck.material, "plasticity", None) is not None:
         raise SetupError("material.plasticity", f"plastic history is not distributed yet; {how}")
     if getattr(deck.material, "viscoelastic", None) is not None:
@@ -114,17 +123,22 @@ def _rank_model(
     deck: dk.Deck,
     cloud: PointCloud,
     mpi: MPICommunicator,
-    n_family: int,
+    n_family: int | NDArray[np.bool_],
     bounds: tuple[Any, Any],
     body: list,
     kin: list,
     init: list,
 ) -> dict[str, Any]:
-    """A rank's bonds (owned and first-layer families), model, rigid bodies and solver,
-    built with its communicator active (``bounds``: the whole body's corners, m)."""
+    """A rank's bonds (owned and first-layer families: the first ``n_family`` points,
+    or a mask of them), model, rigid bodies and solver, built with its communicator
+    active (``bounds``: the whole body's corners, m)."""
     with using(mpi):
         bonds = own_families(build_bonds_for(deck, cloud, bounds), cloud, n_family)
-        model = build_model(deck, cloud, bonds, body)
+        if has_bodies(deck):
+            contact = build_contact(deck, cloud, bonds, build_material(deck.material))
+            model = build_bodies_model(deck, cloud, bonds, body_layout(deck, cloud), body, contact)
+        else:
+            model = build_model(deck, cloud, bonds, body)
         attach_rigid_bodies(deck, cloud, model, bonds)
         solver = build_solver(deck, cloud, model, body, kin, init)
     return {
@@ -154,7 +168,18 @@ def _build_replicated(deck: dk.Deck, comm: Any) -> dict[str, Any]:
     _refuse(deck, size)
     families = ghost_families(deck, global_cloud)
     radius, ghost_radius = _radii(deck, global_cloud.spacing, families)
-    layout, n_family = decompose(comm, global_cloud, radius, ghost_radius, families)
+    n_family: int | NDArray[np.bool_]
+    if has_bodies(deck):  # each rank owns points of one body (parallel/bodies.py)
+        owner = body_layout(deck, global_cloud).body_of_points()
+        # the first ghost layer always has its families: each body's model is set up
+        # from the points held here, with no exchange (build/bodies.py)
+        radius, ghost_radius = _radii(deck, global_cloud.spacing, True)
+        try:
+            layout, n_family = decompose_bodies(comm, global_cloud, owner, radius, ghost_radius)
+        except ValueError as exc:
+            raise SetupError("bodies", str(exc)) from None
+    else:
+        layout, n_family = decompose(comm, global_cloud, radius, ghost_radius, families)
     cloud = local_cloud(global_cloud, layout)
     # on the global cloud (a traction's layer thickness is that of the whole node set)
     body, kin, init = (

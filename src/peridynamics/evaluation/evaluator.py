@@ -294,6 +294,9 @@ class Evaluator(Measures):
         if fused and counts is not None:
             return int(counts[:n_own].sum())
         law = self.damage_law
+        by_law = getattr(law, "owned_broken", None)  # several bodies: the law counts
+        if by_law is not None:
+            return int(by_law(n_own))
         proposed = law.proposed
         if proposed is None:
             raise RuntimeError(f"the damage law {law.name!r} cannot count owned bonds")

@@ -114,10 +114,21 @@ def _sort_families(
             intact[a + k] = fl[order[k]]
 
 
-def own_families(bonds: Bonds, cloud: PointCloud, n_owned: int) -> Bonds:
-    """The bonds of the owned points (the first ``n_owned``) of a list built on the local
-    cloud, each family in the serial order; ghost points get empty families."""
+def own_families(bonds: Bonds, cloud: PointCloud, n_owned: int | NDArray[np.bool_]) -> Bonds:
+    """The bonds of the points with a family here (the first ``n_owned``, or the points
+    of a mask (n_local,)) of a list built on the local cloud, each family in the serial
+    order; the other points get empty families."""
     assert cloud.global_ids is not None
+    if not isinstance(n_owned, int | np.integer):  # a mask (several bodies)
+        keep = np.asarray(n_owned, dtype=bool)
+        counts = np.where(keep, np.diff(bonds.offsets), 0)
+        offsets = np.zeros(len(counts) + 1, dtype=np.int64)
+        np.cumsum(counts, out=offsets[1:])
+        sel = keep[bonds.bond_i]
+        bond_j = np.ascontiguousarray(bonds.bond_j[sel])
+        intact = np.ascontiguousarray(bonds.bond_intact[sel])
+        _sort_families(offsets, bond_j, intact, cloud.global_ids)
+        return bonds.replace(offsets=offsets, bond_j=bond_j, bond_intact=intact)
     end = int(bonds.offsets[n_owned])
     offsets = bonds.offsets.copy()
     offsets[n_owned + 1 :] = end
