@@ -202,7 +202,23 @@ def test_static_solve_of_two_bodies_with_an_interface_converges_like_one_body():
         "time_function": {"type": "ramp", "end": 1.0},
     }  # fmt: skip
     d["solver"] = {"type": "static", "load_steps": 2}
+    d.pop("damage")  # a linear elastic solve: nothing can break
+    d["interfaces"] = [{"bodies": ["main", "aggregate"]}]
     sim = Simulation.from_deck(dk.parse_deck(d))
     s = sim.solver.init()
     r = sim.solver.step(s)
     assert r.converged and r.iterations <= 3
+
+
+def test_static_solver_refuses_bodies_whose_bonds_can_break():
+    """Its breaking schemes read one critical-stretch law: the bodies' and interfaces'
+    bonds would never break, so the deck is refused with the key and the way out."""
+    d = copy.deepcopy(DECK)
+    d["boundary_conditions"][1] = {
+        "type": "displacement",
+        "set": "right",
+        "components": {"x": 2e-5},
+    }
+    d["solver"] = {"type": "static", "load_steps": 2}
+    with pytest.raises(SetupError, match="solver.type: adr"):
+        Simulation.from_deck(dk.parse_deck(d))

@@ -68,6 +68,13 @@ def check_damage(model: Evaluator) -> None:
             "damage.model: critical_stretch and fracture_energy or critical_stretch) "
             "or use solver.type: adr"
         )
+    if getattr(law, "name", "") == "bodies" and law.active:
+        raise ValueError(
+            "[bodies] the static solver breaks bonds by one critical-stretch law; the "
+            "bonds of several bodies and their interfaces would never break in it: use "
+            "solver.type: adr (or explicit), or make every body and interface unbreakable "
+            "(no critical_stretch or fracture_energy) for a linear elastic solve"
+        )
     if getattr(model, "softening", None) is not None:
         raise ValueError(
             "[damage.sed_softening] the static solver does not soften bonds (it breaks "
