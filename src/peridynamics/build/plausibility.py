@@ -94,11 +94,17 @@ def warn_idle_precracks(
     deck: dk.Deck, x: NDArray[np.float64], hits: list[NDArray[np.bool_]]
 ) -> None:
     """Warn for every pre-crack that crosses no bond (it lies outside the body);
-    ``hits``: the bonds each of ``deck.precracks`` crosses, masks (n_bonds,)."""
+    ``hits``: the bonds each of ``deck.precracks`` crosses, masks (n_bonds,). On a rank
+    of a decomposed run (collective) over the whole body: a pre-crack another rank's
+    bonds cross is not idle."""
+    from peridynamics.communicator import active_comm
+
+    comm = active_comm()
     for n, (spec, hit) in enumerate(zip(deck.precracks, hits, strict=True)):
-        if hit.any():
+        if comm.any(bool(hit.any())):
             continue
-        lo, hi = x.min(axis=0), x.max(axis=0)
+        lo = np.array([comm.min(float(v)) for v in x.min(axis=0)])
+        hi = np.array([comm.max(float(v)) for v in x.max(axis=0)])
         warnings.warn(
             f"precracks.{n}: the pre-crack {np.asarray(spec.points).tolist()} cuts no "
             f"bond; the points span {lo.tolist()} .. {hi.tolist()} m - check its "

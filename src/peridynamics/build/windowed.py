@@ -1,7 +1,7 @@
 """A rank's part of a decomposed run made without the global point cloud.
 
-For a deck whose body is a regular grid (rectangle, disc, box or cylinder without
-jitter, holes and notches that are point-wise regions; :func:`deck_lattice`), every
+For a deck whose body is a grid (rectangle, disc, box or cylinder, jittered or not,
+holes and notches that are point-wise regions; :func:`deck_lattice`), every
 rank makes only the points it holds (:mod:`peridynamics.parallel.windowed`), then:
 
 - **node sets** are resolved on those points like :func:`~peridynamics.build.cloud.build_cloud`
@@ -16,8 +16,8 @@ rank makes only the points it holds (:mod:`peridynamics.parallel.windowed`), the
 - every error found on a rank is raised on every rank (:func:`agreed`), so no rank
   waits for another that has stopped.
 
-Decks that need the whole cloud (several bodies, jittered or mesh geometries, an
-initial velocity read from a file of every point) keep the replicated set-up of
+Decks that need the whole cloud (several bodies, mesh geometries, an initial velocity
+read from a file of every point) keep the replicated set-up of
 :func:`~peridynamics.build.decomposed.build_distributed`.
 """
 
@@ -39,6 +39,7 @@ from peridynamics.build.loads import build_conditions
 from peridynamics.build.regions import IndexSet, to_region
 from peridynamics.geometry import PointCloud
 from peridynamics.geometry.cloud import GeometryFitWarning
+from peridynamics.geometry.jittered_lattice import jittered_lattice
 from peridynamics.geometry.lattice import (
     Lattice,
     box_lattice,
@@ -70,7 +71,7 @@ def deck_lattice(deck: dk.Deck) -> Lattice | None:
     """The deck's body as a lattice, or ``None`` when its set-up needs the whole cloud
     (module docstring)."""
     g, d = deck.geometry, deck.discretisation
-    if g.type not in LATTICES or d.jitter > 0 or has_bodies(deck):
+    if g.type not in LATTICES or has_bodies(deck):
         return None
     if any(getattr(bc, "file", None) is not None for bc in deck.boundary_conditions):
         return None
@@ -84,7 +85,11 @@ def deck_lattice(deck: dk.Deck) -> Lattice | None:
         raise SetupError("geometry", str(exc)) from None
     for fit in lattice.grid_fit:
         warnings.warn(fit.message(), GeometryFitWarning, stacklevel=2)
-    return lattice.with_removed(*notches)
+    lattice = lattice.with_removed(*notches)
+    if d.jitter > 0:  # the generators' jitter, made a window at a time
+        thickness = float(getattr(g, "thickness", 1.0)) if lattice.dim == 2 else 1.0
+        lattice = jittered_lattice(lattice, d.jitter, d.seed, "voronoi", thickness)
+    return lattice
 
 
 def agreed(comm: Any, work: Callable[[], T]) -> T:
@@ -106,10 +111,11 @@ def local_cloud(deck: dk.Deck, lattice: Lattice, part: WindowedPart, comm: Any) 
     lo, hi = _bounds(comm, part.x[: lay.n_owned])
     cloud = PointCloud(
         x=part.x,
-        volume=np.full(lay.n_local, lattice.cell_volume),
+        volume=np.full(lay.n_local, lattice.cell_volume) if part.volume is None else part.volume,
         spacing=lattice.spacing,
         cross_section=lattice.cross_section,
         plane=lattice.plane,
+        irregular=bool(getattr(lattice, "irregular", False)),
         grid_fit=lattice.grid_fit,
         global_ids=lay.local_ids.astype(np.int64),
         body_size=float(max(np.max(hi - lo), lattice.spacing)),
@@ -213,6 +219,7 @@ def _gathered_set(cloud: PointCloud, owned: NDArray[np.intp], name: str, comm: A
         spacing=cloud.spacing,
         cross_section=cloud.cross_section,
         plane=cloud.plane,
+        irregular=cloud.irregular,  # a jittered layer's thickness is its volume / area
         node_sets={name: np.arange(len(ids))},
         global_ids=ids[order],
     )
@@ -229,7 +236,7 @@ def cloud_meta(
         spacing=lattice.spacing,
         cross_section=lattice.cross_section,
         plane=lattice.plane,
-        irregular=False,
+        irregular=bool(getattr(lattice, "irregular", False)),
         grid_fit=lattice.grid_fit,
         lo=lo,
         hi=hi,

@@ -28,7 +28,10 @@ Nodal volumes of a jittered grid (``volumes``):
   the full jittered grid, clipped to the grid's bounding box (exact, by mirroring the
   points near each face). Cells of removed points (holes, outside the cylinder) are not
   given to their neighbours, so the volumes sum to the box minus the removed cells, as
-  the ``dx^dim`` cells of a regular grid do.
+  the ``dx^dim`` cells of a regular grid do. The diagram is made in fixed blocks of
+  slabs of the first axis, each with a margin
+  (:func:`~peridynamics.geometry.jitter.block_volumes`), so a decomposed run's ranks
+  get the same volumes without the whole cloud.
 * ``"cell"``: ``dx^dim`` (times the thickness in 2-D), the volume of the grid cell the
   point came from (it contains the point): exact in the mean.
 
@@ -48,6 +51,7 @@ from numpy.typing import ArrayLike
 
 from peridynamics.geometry.cloud import GeometryFitWarning, GridFit, Plane, PointCloud
 from peridynamics.geometry.jitter import jittered
+from peridynamics.geometry.jittered_lattice import jittered_lattice
 from peridynamics.geometry.lattice import (
     Lattice,
     box_lattice,
@@ -246,7 +250,11 @@ def _jittered_cloud(
     lattice: Lattice, jitter: float, seed: int, volumes: NodalVolumes, thickness: float = 1.0
 ) -> PointCloud:
     """The points of a lattice, jittered over its whole grid before the cuts (``jitter =
-    0``: :meth:`Lattice.cloud`, bit for bit)."""
+    0``: :meth:`Lattice.cloud`, bit for bit; else the
+    :class:`~peridynamics.geometry.jittered_lattice.JitteredLattice`'s cloud, whose
+    windows a decomposed run makes without the whole cloud)."""
+    if jitter > 0:
+        return jittered_lattice(lattice, jitter, seed, volumes, thickness).cloud()
     x, vol = jittered(lattice.grid(), lattice.spacing, lattice.lo, lattice.hi, jitter, seed,
                       volumes)  # fmt: skip
     cloud = PointCloud(
