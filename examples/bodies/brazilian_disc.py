@@ -6,6 +6,8 @@ Usage::
     python examples/bodies/brazilian_disc.py                  # D/dx = 40, 60, 80
     python examples/bodies/brazilian_disc.py --ratios 20 30   # other resolutions
     python examples/bodies/brazilian_disc.py --no-run         # re-analyse finished runs
+    python examples/bodies/brazilian_disc.py --horizon 2.5e-3 --ratios 60 80 100 120
+                                                               # delta fixed, dx shrinking
 
 Each resolution runs ``brazilian_disc.yaml`` into ``<out>/D<ratio>/`` (spacing D/ratio,
 horizon 3.015 spacings: m fixed, delta shrinks with dx). The script writes
@@ -39,13 +41,17 @@ DECK = HERE / "brazilian_disc.yaml"
 DAMAGED = 0.35
 
 
-def disc_deck(ratio: float, sets: list[str]) -> dict[str, Any]:
-    """The deck with spacing D / ratio (and ``--set`` overrides)."""
+def disc_deck(ratio: float, sets: list[str], horizon: float | None = None) -> dict[str, Any]:
+    """The deck with spacing D / ratio (and ``--set`` overrides); ``horizon`` (m): a fixed
+    delta instead of the deck's 3.015 spacings."""
     from peridynamics.deck import apply_overrides
 
     data = yaml.safe_load(DECK.read_text())
     d = 2.0 * float(data["geometry"]["holes"][0]["not"]["circle"]["radius"])
     data["discretisation"]["spacing"] = d / ratio
+    if horizon is not None:
+        data["discretisation"].pop("horizon_factor", None)
+        data["discretisation"]["horizon"] = horizon
     data["name"] = f"brazilian_disc_D{ratio:g}"
     data.setdefault("output", {})["fracture"] = {"damage_threshold": 0.2}
     return apply_overrides(data, sets)
@@ -157,12 +163,14 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--out", type=Path, default=HERE / "results")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     p.add_argument("--no-run", action="store_true", help="analyse finished runs only")
+    p.add_argument("--horizon", type=float, default=None,
+                   help="a fixed horizon (m) at every ratio (default 3.015 dx)")  # fmt: skip
     a = p.parse_args(argv)
     a.out.mkdir(parents=True, exist_ok=True)
     cases: dict[str, dict[str, Any]] = {}
     last = a.out
     for ratio in a.ratios:
-        data = disc_deck(ratio, a.set)
+        data = disc_deck(ratio, a.set, a.horizon)
         out = a.out / f"D{ratio:g}"
         if not a.no_run:
             run_case(data, out)
