@@ -32,7 +32,12 @@ from peridynamics.app.calibrate_report import (
     write_json,
 )
 from peridynamics.app.calibrate_runs import Runner, evaluate_batch, run_folder, summary_of
-from peridynamics.app.calibrate_spec import CalibrationError, CalibrationSpec, load_spec
+from peridynamics.app.calibrate_spec import (
+    CalibrationError,
+    CalibrationSpec,
+    load_spec,
+    parse_spec,
+)
 from peridynamics.app.checks import err
 from peridynamics.app.exit_codes import EXIT_INTERRUPTED, EXIT_INVALID, EXIT_OK
 
@@ -140,25 +145,61 @@ def calibrate(
     return report
 
 
-def cmd_calibrate(args: argparse.Namespace) -> int:
-    """Run a calibration (module docstring); exit 0 done, 2 bad input, 130 interrupted."""
-    try:
-        spec = load_spec(args.calibration)
-        updates: dict[str, Any] = {}
-        for opt in ("jobs", "method", "restarts", "max_runs"):
-            if getattr(args, opt, None) is not None:
-                updates[opt] = getattr(args, opt)
-        if updates:
-            from peridynamics.app.calibrate_spec import parse_spec
+def _spec_of(args: argparse.Namespace) -> tuple[CalibrationSpec, Path, str, dict | None]:
+    """The calibration of the command line: the file's (CAL.yml, with the option flags
+    applied) or the flags' (:mod:`peridynamics.app.calibrate_flags`); its base folder
+    of relative data paths, its name in the report, and the flags' mapping."""
+    from peridynamics.app.calibrate_flags import flag_form, spec_from_flags
 
-            data = spec.model_dump()
-            data["options"] = {**data["options"], **updates}
-            spec = parse_spec(data, "options given on the command line")
-        base = Path(args.calibration).resolve().parent
+    flags = flag_form(args)
+    if flags == (args.calibration is not None):
+        raise CalibrationError(
+            "give a calibration file (peridynamics calibrate DECK CAL.yml) or the flags "
+            "--data, --fit, --x, --y (docs/calibration.md), not both"
+            if flags else "give a calibration file CAL.yml, or --data CSV --fit KEY "
+            "--x SIM=COLUMN --y SIM=COLUMN (docs/calibration.md)"
+        )  # fmt: skip
+    if flags:
+        if not Path(args.deck).is_file():
+            raise CalibrationError(f"no deck file {args.deck!r}")
+        spec, data, notes = spec_from_flags(args, Path(args.deck))
+        if not args.quiet:
+            for note in notes:
+                print(f"calibrate: {note}", flush=True)
+        return spec, Path.cwd(), "flags", data
+    spec = load_spec(args.calibration)
+    updates: dict[str, Any] = {}
+    for opt in ("jobs", "method", "restarts", "max_runs"):
+        if getattr(args, opt, None) is not None:
+            updates[opt] = getattr(args, opt)
+    if updates:
+        data = spec.model_dump()
+        data["options"] = {**data["options"], **updates}
+        spec = parse_spec(data, "options given on the command line")
+    path = Path(args.calibration).resolve()
+    return spec, path.parent, str(path), None
+
+
+def cmd_calibrate(args: argparse.Namespace) -> int:
+    """Run a calibration (module docstring); exit 0 done, 2 bad input, 130 interrupted.
+    The flag form writes the calibration file it built to ``DIR/calibration.yml``."""
+    try:
+        spec, base, spec_name, flag_data = _spec_of(args)
         if not Path(args.deck).is_file():
             raise CalibrationError(f"no deck file {args.deck!r}")
         deck = Path(args.deck).resolve()
         out = Path(args.out or Path("results") / f"{deck.stem}_calibration").resolve()
+        if flag_data is not None:
+            import yaml
+
+            out.mkdir(parents=True, exist_ok=True)
+            spec_name = str(out / "calibration.yml")
+            text = yaml.safe_dump(flag_data, sort_keys=False, allow_unicode=True)
+            Path(spec_name).write_text(
+                "# built by peridynamics calibrate from its flags: run it again with\n"
+                f"# peridynamics calibrate {args.deck} {spec_name}\n" + text,
+                encoding="utf-8",
+            )
         if getattr(args, "sobol", None) is not None:
             from peridynamics.app.calibrate_sobol import run_sobol
 
@@ -170,7 +211,7 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
                       f"{out / 'sobol.csv'}, {out / 'sobol.png'}")  # fmt: skip
             return EXIT_OK
         report = calibrate(spec, deck, out, base, args.set, args.quiet, args.allow_large,
-                           str(Path(args.calibration).resolve()))  # fmt: skip
+                           spec_name)  # fmt: skip
     except CalibrationError as exc:
         err(str(exc))
         return EXIT_INVALID

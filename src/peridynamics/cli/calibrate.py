@@ -41,17 +41,48 @@ def register(sub: Any) -> None:
         "calibrate",
         help="fit deck values to measured curves or scalars (docs/calibration.md)",
         description="Fit the deck values named in a calibration file (parameters with "
-        "bounds and scale) to measured data (targets: a history curve or a summary "
-        "scalar); every trial is a run in DIR/runs, run in parallel and read back when "
-        "the calibration is started again. Writes report.md, report.json, fit.png, "
-        "fit_<target>.csv, runs.csv and fitted_deck.yaml.",
+        "bounds and scale), or by --fit flags, to measured data (targets: a history "
+        "curve or a summary scalar); every trial is a run in DIR/runs, run in parallel "
+        "and read back when the calibration is started again. Writes report.md, "
+        "report.json, fit.png, fit_<target>.csv, runs.csv and fitted_deck.yaml.",
         epilog="exit codes:\n  0    done\n  2    bad arguments, calibration file, data or "
         "deck (nothing fitted)\n  130  interrupted (Ctrl-C or SIGTERM): run the same "
         "command again to continue",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     deck_args(cp)
-    cp.add_argument("calibration", help="calibration file (YAML; docs/calibration.md)")
+    cp.add_argument(
+        "calibration",
+        nargs="?",
+        help="calibration file (YAML; docs/calibration.md); or leave it out and give "
+        "--data, --fit, --x, --y",
+    )
+    fl = cp.add_argument_group(
+        "flag form (no calibration file; one measured curve)",
+        "the same fit as a calibration file with one curve target; the file built is "
+        "written to DIR/calibration.yml",
+    )
+    fl.add_argument("--data", metavar="CSV", help="the measured curve (a header row)")
+    fl.add_argument(
+        "--fit",
+        action="append",
+        metavar="KEY[=LO:HI[:log]]",
+        help="a deck value to fit (dotted key as for --set), repeat or separate by commas; "
+        "without bounds: [0.5, 2] x the deck value; starts from the deck value",
+    )
+    fl.add_argument(
+        "--x",
+        metavar="SIM=COLUMN",
+        help="abscissa: history.csv columns (probes; a sum like 'a - b') = the CSV column; "
+        "a unit [mm] in the CSV header or after COLUMN is converted to SI",
+    )
+    fl.add_argument(
+        "--y", metavar="SIM=COLUMN", help="ordinate, as --x, e.g. '-1 * reaction=load [kN]'"
+    )
+    fl.add_argument("--sigma", metavar="COLUMN", help="CSV column of the standard deviation of y")
+    fl.add_argument(
+        "--monotone", action="store_true", help="cut both curves where x first decreases"
+    )
     cp.add_argument("--jobs", type=int, metavar="N", help="runs at a time (options.jobs)")
     cp.add_argument(
         "--method", choices=("least_squares", "global"), help="the optimiser (options.method)"
