@@ -107,3 +107,30 @@ def test_cuda_without_a_cuda_device_is_refused_on_every_rank(
     monkeypatch.setattr(warp_device, "require_warp", lambda: fake)
     with pytest.raises(ValueError, match="solver.device: cuda"):
         warp_device.pick_device("cuda", 1)
+
+
+@pytest.mark.mpi
+@pytest.mark.skipif(MPIEXEC is None, reason=WHY)
+@pytest.mark.skipif(not HAS_WARP, reason="warp-lang not installed (pip install '.[gpu]')")
+def test_the_ranks_check_script_finds_the_serial_bits(tmp_path: Path) -> None:
+    """``benchmarks/gpu_ranks_check.py`` (what was run on the H200) on Warp's CPU device:
+    two ranks against one process, the main job at 0.5 mm, bit for bit (exit 0)."""
+    import os
+    import subprocess
+    import sys
+
+    from tests.helpers import ROOT, subprocess_env
+
+    out = tmp_path / "check.json"
+    env = subprocess_env({"NUMBA_NUM_THREADS": "1"})
+    env["PATH"] = f"{Path(str(MPIEXEC)).parent}{os.pathsep}{env.get('PATH', '')}"
+    got = subprocess.run(
+        [sys.executable, str(ROOT / "benchmarks" / "gpu_ranks_check.py"), "--device", "cpu",
+         "--ranks", "2", "--set", "discretisation.spacing=5e-4", "--out", str(out)],
+        env=env, capture_output=True, text=True, timeout=300, check=False,
+    )  # fmt: skip
+    assert got.returncode == 0, got.stderr[-3000:]
+    res = json.loads(out.read_text())
+    assert res["devices_ranks"] == ["cpu", "cpu"]
+    assert all(res[f"{k}_identical"] for k in ("u", "v", "damage", "intact"))
+    assert res["bonds_broken_ranks"] == res["bonds_broken_one"] > 0
