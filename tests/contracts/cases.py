@@ -32,6 +32,7 @@ from peridynamics.families.base import ForceModel
 from peridynamics.families.correspondence.force import DEGENERATE_RATIO
 from peridynamics.families.correspondence.material import CorrespondenceMaterial
 from peridynamics.families.lps.material import LPSMaterial
+from peridynamics.families.lps.plastic import LPSPlasticity
 from peridynamics.families.micropolar.material import MicropolarMaterial
 from peridynamics.families.pmb.force import PMBForceModel
 from peridynamics.families.pmb.material import BondBasedMaterial
@@ -284,6 +285,39 @@ def twin_lps(model: Any, st: State) -> Pairs:
     ]
 
 
+def lps_plastic() -> Built:
+    """Elastic-plastic LPS (3-D, surface correction) with a yield stress far above the
+    state's stress: zero history, the plastic kernels in their elastic branch (force =
+    -grad energy and rigid motion hold only at a fixed history that does not yield)."""
+    mat = LPSMaterial(2e9, 0.2, 1500.0, plasticity=LPSPlasticity(1e12, 1e9))
+    cloud = block((6, 5, 5))
+    model = mat.force_model(cloud, build_bonds(cloud, 3.015 * DX), surface_correction=True)
+    return Built(model, deform(model, blank_state(model), seed=57))
+
+
+def twin_lps_plastic(model: Any, st: State) -> Pairs:
+    from peridynamics.kernels import reference_lps_plasticity as twins
+
+    b = model.bonds
+    args = (model.cloud.x, st.u, b.bond_i, b.bond_j, b.bond_length, model.omega_volume)
+    ep, q = st["lps_plastic_extension"], st["lps_plastic_strain"]
+    p = model.plasticity
+    theta, scale, _ = twins.return_map(
+        *args, st.intact, model.theta_scale, model.extension_coef, ep, q, model.shear,
+        p.yield_stress, p.hardening_modulus,
+    )  # fmt: skip
+    f_ref, _ = twins.force(
+        *args, model.omega_volume_far, st.intact, theta, model.dilatation_coef,
+        model.extension_coef, model.reverse, ep, scale,
+    )  # fmt: skip
+    w_ref = twins.energy_density(
+        *args, st.intact, model.theta_scale, model.k_theta, model.extension_coef, ep,
+        model.n_points,
+    )  # fmt: skip
+    return [("dilatation", st["dilatation"], theta), ("force", st.force, f_ref),
+            ("energy", model.energy_density(st), w_ref)]  # fmt: skip
+
+
 # -- micropolar -------------------------------------------------------------------------
 def micropolar(plane: str) -> Built:
     """2-D micropolar plate with rotations (theta ~ 1e-3 rad beside u ~ 1e-2 dx)."""
@@ -401,6 +435,7 @@ CASES: list[Case] = [
     Case("lps-2d", lambda: lps(2, "constant", True), twin_lps),
     Case("lps-2d-strain", lambda: lps(2, "inverse", False, "strain"), twin_lps),
     Case("lps-3d", lambda: lps(3, "inverse", True), twin_lps),
+    Case("lps_plastic-3d", lps_plastic, twin_lps_plastic),
     Case("micropolar-stress", lambda: micropolar("stress"), twin_micropolar, 1e-7, rotate_theta),
     Case("micropolar-strain", lambda: micropolar("strain"), twin_micropolar, 1e-7, rotate_theta),
     *(

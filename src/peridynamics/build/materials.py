@@ -22,6 +22,7 @@ from peridynamics.build.plastic_damage import build_plastic_strain_law
 from peridynamics.damage import NO_DAMAGE, CriticalStretch, SEDSoftening, WeibullField
 from peridynamics.evaluation import Evaluator
 from peridynamics.families.correspondence.plasticity import plastic_law
+from peridynamics.families.lps.plastic import LPSPlasticity
 from peridynamics.families.lps.viscoelastic import Viscoelasticity
 from peridynamics.families.registry import MATERIALS
 from peridynamics.families.viscosity import BondViscosity
@@ -34,9 +35,11 @@ def _bond_based(m: Any) -> Any:
 
 def _lps(m: Any) -> Any:
     ve = getattr(m, "viscoelastic", None)
+    pl = getattr(m, "plasticity", None)
     return MATERIALS["lps"](
         m.youngs_modulus, m.poisson_ratio, m.density, m.influence,
         None if ve is None else Viscoelasticity(ve.fraction, ve.relaxation_time),
+        None if pl is None else LPSPlasticity(pl.yield_stress, pl.hardening_modulus),
     )  # fmt: skip
 
 

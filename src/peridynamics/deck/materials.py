@@ -15,6 +15,7 @@ from typing import Annotated, Any, ClassVar, Literal
 from pydantic import Discriminator, Field, Tag, model_validator
 
 from peridynamics.deck.damage import bond_law_errors, sed_softening_errors
+from peridynamics.deck.lps_plasticity import lps_plasticity_errors
 from peridynamics.deck.plasticity import AnyPlasticity, plasticity_errors
 from peridynamics.deck.types import Errors, NonNegFloat, NotBool, Num, PosFloat, Strict, tag_of
 from peridynamics.deck.viscoelastic import ViscoelasticSpec, viscoelastic_errors
@@ -100,13 +101,16 @@ class LPSMaterialSpec(FamilySpec):
     influence: Literal["constant", "inverse"] = "constant"
     viscosity: Viscosity | None = None
     viscoelastic: ViscoelasticSpec | None = None  # deck/viscoelastic.py
+    plasticity: AnyPlasticity | None = None  # j2 only (deck/lps_plasticity.py)
 
     def deck_errors(self, deck: Any) -> Errors:
         """The damage law, a 2-D or 3-D model, no SED softening; ``viscoelastic``'s
-        limits."""
+        and ``plasticity``'s limits."""
         errors = bond_law_errors(deck)
         if deck.dim == 1:
             errors.append(("material.model", "lps is a 2-D / 3-D model; use pmb for bars"))
+        elif self.plasticity is not None:
+            errors += lps_plasticity_errors(deck)
         elif self.viscoelastic is not None:
             errors += viscoelastic_errors(deck)
         return errors + sed_softening_errors(deck)

@@ -68,6 +68,7 @@ from typing import Any, Literal
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.families import moduli
 from peridynamics.families.lps.force import LPSForceModel
+from peridynamics.families.lps.plastic import PlasticLPSModel
 from peridynamics.families.lps.viscoelastic import ViscoelasticLPSModel
 from peridynamics.geometry.cloud import PointCloud
 
@@ -125,6 +126,9 @@ class LPSMaterial:
     viscoelastic : Viscoelasticity or None
         A standard-linear-solid deviatoric response (3-D,
         :mod:`~peridynamics.families.lps.viscoelastic`); None: elastic.
+    plasticity : LPSPlasticity or None
+        Yield stress and linear isotropic hardening of the elastic-plastic LPS (3-D,
+        :mod:`~peridynamics.families.lps.plastic`); None: elastic.
 
     Raises
     ------
@@ -137,11 +141,16 @@ class LPSMaterial:
     density: float
     influence: Influence = "constant"
     viscoelastic: Any = None
+    plasticity: Any = None
 
     def __post_init__(self) -> None:
         moduli.check_isotropic_constants(
             self.youngs_modulus, self.poisson_ratio, self.density, "LPS"
         )
+        if self.viscoelastic is not None and self.plasticity is not None:
+            raise ValueError(
+                "material.viscoelastic and material.plasticity do not combine; give one"
+            )
         if self.influence not in INFLUENCES:
             raise ValueError(
                 f"material.influence must be one of {INFLUENCES}, got {self.influence!r}"
@@ -263,7 +272,12 @@ class LPSMaterial:
         ``surface_correction=True`` calibrates the influence function of every point
         (:func:`~peridynamics.families.calibration.calibrate_influence`); with
         ``viscoelastic`` the
-        :class:`~peridynamics.families.lps.viscoelastic.ViscoelasticLPSModel`."""
+        :class:`~peridynamics.families.lps.viscoelastic.ViscoelasticLPSModel`; with
+        ``plasticity`` the :class:`~peridynamics.families.lps.plastic.PlasticLPSModel`."""
+        if self.plasticity is not None:
+            return PlasticLPSModel(
+                cloud, bonds, self, self.plasticity, surface_correction=surface_correction
+            )
         if self.viscoelastic is not None:
             return ViscoelasticLPSModel(
                 cloud, bonds, self, self.viscoelastic, surface_correction=surface_correction

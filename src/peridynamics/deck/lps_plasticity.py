@@ -1,0 +1,67 @@
+"""Checks of ``material.plasticity`` on the LPS family (the elastic-plastic LPS of
+Mitchell (2011), docs/theory_plasticity.md): ``type: j2`` with ``yield_stress`` and
+``hardening_modulus`` (isotropic hardening only), a 3-D body, explicit dynamics or
+dynamic relaxation on the Numba backend, one body, no thermal expansion, no
+viscoelasticity, no ``plastic_strain`` damage. A run on several MPI ranks is refused at build time
+(``build/decomposed.py``)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from peridynamics.deck.types import Errors
+
+
+def lps_plasticity_errors(deck: Any) -> Errors:
+    """What ``material.plasticity`` of ``model: lps`` does not run with."""
+    errors: Errors = []
+    key = "material.plasticity"
+    m = deck.material
+    p = m.plasticity
+    if p.type != "j2":
+        errors.append(
+            (
+                f"{key}.type",
+                f"model lps has the elastic-plastic LPS of Mitchell (2011) only: type j2 "
+                f"(got {p.type!r}); use model correspondence for drucker_prager",
+            )
+        )
+    elif p.kinematic_modulus != 0.0:
+        errors.append(
+            (
+                f"{key}.kinematic_modulus",
+                "model lps hardens isotropically only (hardening_modulus); remove "
+                "kinematic_modulus or use model correspondence",
+            )
+        )
+    if deck.dim != 3:
+        errors.append((key, "model lps needs a 3-D body for plasticity (no 2-D deviatoric split)"))
+    if getattr(m, "viscoelastic", None) is not None:
+        errors.append((key, "material.plasticity and material.viscoelastic do not combine"))
+    solver = deck.solver.type
+    if solver not in ("explicit", "adr"):
+        errors.append(
+            (
+                "solver.type",
+                f"{solver!r} is not available with the plastic LPS (static: Newton with the "
+                "finite-difference tangent cut back past yield in the tests); use explicit "
+                "or adr with material.plasticity",
+            )
+        )
+    elif getattr(deck.solver, "backend", "numba") != "numba":
+        errors.append(("solver.backend", "material.plasticity runs on the Numba backend only"))
+    if getattr(getattr(deck, "thermal", None), "expansion", None) is not None:
+        errors.append(
+            ("thermal.expansion", "material.plasticity has no thermal expansion; remove one")
+        )
+    if getattr(deck, "bodies", None):
+        errors.append(("bodies", "material.plasticity runs in a single body; remove bodies"))
+    if deck.damage.model == "plastic_strain":
+        errors.append(
+            (
+                "damage.model",
+                "plastic_strain reads the history of the correspondence laws; with model lps "
+                "use critical_stretch",
+            )
+        )
+    return errors
