@@ -62,14 +62,17 @@ def test_dcb_small(tmp_path: Path) -> None:
         "boundary_conditions.2.components.y=-0.5e-3",
         "solver.load_steps=5",
     )
-    # measured at dx = 1 mm: compliance 1.046 x corrected beam theory, events 1.07-1.27 x
-    # LEFM, the path on the mid-line (offset dx / 2)
+    # measured at dx = 1 mm (the deck's corrected_critical_stretch: true): compliance
+    # 1.046 x corrected beam theory, 17 events at 1.096 +- 0.053 x LEFM (0.954-1.137),
+    # the first at 0.954, the path on the mid-line (offset dx / 2); without the option
+    # the events of the full run sit at 1.245 +- 0.041 (README)
     assert 0.97 < res["compliance_ratio_pd_to_cbt"] < 1.10
     assert res["events"] > 5
     assert res["crack_growth_m"] > 0.005
     assert res["max_path_offset_from_midline_m"] <= 1.0e-3
     assert res["p_over_p_lefm_mean"] is not None
-    assert 0.95 < res["p_over_p_lefm_mean"] < 1.4
+    assert 1.0 < res["p_over_p_lefm_mean"] < 1.15  # the band of issue 35
+    assert 0.90 < res["first_event_p_over_p_lefm"] < 1.05
 
 
 @pytest.mark.long
@@ -110,12 +113,14 @@ def test_cantilever_paper_resolution(tmp_path: Path) -> None:
 
 @pytest.mark.slow
 def test_dcb_paper_resolution(tmp_path: Path) -> None:
-    """dx = 0.5 mm (about 9 min): measured compliance 1.029 x corrected beam theory,
-    first event 1.009 x LEFM, events on the straight part 1.30 +- 0.06 x LEFM."""
+    """dx = 0.5 mm (about 9 min), the deck as shipped (corrected_critical_stretch: true):
+    measured compliance 1.029 x corrected beam theory, first event 0.902 x LEFM, 85
+    events on the straight part at 1.165 +- 0.050 x LEFM (without the option: 1.009 and
+    1.30 +- 0.06)."""
     res = _run(tmp_path, "dcb")
     assert 0.97 < res["compliance_ratio_pd_to_cbt"] < 1.03
-    assert 0.95 < res["first_event_p_over_p_lefm"] < 1.10
-    assert 1.15 < res["p_over_p_lefm_mean"] < 1.40
+    assert 0.85 < res["first_event_p_over_p_lefm"] < 1.0
+    assert 1.12 < res["p_over_p_lefm_mean"] < 1.21
     assert res["max_path_offset_from_midline_m"] <= 5.0e-4
 
 

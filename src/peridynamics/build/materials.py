@@ -57,7 +57,11 @@ def _correspondence(m: Any) -> Any:
 
 def _micropolar(m: Any) -> Any:
     return MATERIALS["micropolar"](
-        m.youngs_modulus, m.poisson_ratio, m.density, m.rotational_stiffness_ratio
+        m.youngs_modulus,
+        m.poisson_ratio,
+        m.density,
+        m.rotational_stiffness_ratio,
+        m.corrected_critical_stretch,
     )
 
 

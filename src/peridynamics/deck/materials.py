@@ -127,6 +127,7 @@ class MicropolarMaterialSpec(FamilySpec):
     density: Property
     poisson_ratio: Annotated[float, Field(gt=-1.0, le=1.0 / 3.0, allow_inf_nan=False), Num] = 0.25
     rotational_stiffness_ratio: NonNegFloat = 1.0 / 12.0
+    corrected_critical_stretch: bool = False
 
     point_rotations: ClassVar[bool] = True
 
@@ -143,6 +144,14 @@ class MicropolarMaterialSpec(FamilySpec):
                     "material.poisson_ratio",
                     f"{self.poisson_ratio} is above the micropolar plane-strain limit 1/4 (the "
                     "shear spring would be negative); use <= 0.25, plane stress or model lps",
+                )
+            )
+        if self.corrected_critical_stretch and getattr(deck.solver, "type", None) != "static":
+            errors.append(
+                (
+                    "material.corrected_critical_stretch",
+                    "scales the critical stretch in the static solver's bond breaking "
+                    "only; use solver.type static or remove the key",
                 )
             )
         return errors + sed_softening_errors(deck) + bond_law_errors(deck)

@@ -16,6 +16,15 @@ Discretisation (Zhou, Zhu & Li (n.d.), section 2.3):
   :func:`peridynamics.bonds.surface.bond_factors_from_point_ratios`, which multiply all
   three springs of a bond.
 
+Fracture energy with the correction (``corrected_critical_stretch``): the critical
+stretch l_c = sqrt(G_c / (4 kappa beta)) is calibrated with the continuum spring k_n;
+a bond whose springs carry the factor g_k stores g_k times that energy at l_c, so the
+energy to break the bonds crossing a unit crack area is about g G_c (g ~ 1.16 inside a
+body at delta = 3.015 dx, where the discrete family sum of the bond energy is 0.86 of the
+continuum integral). With the option, :meth:`bond_stretch` and :meth:`pair_stretch`
+report sqrt(g_k) l, so a threshold l_c breaks the bond at l = l_c / sqrt(g_k) and its
+rupture energy 1/2 g_k k_n (l_c^2 / g_k) xi is the uncorrected one.
+
 Tangent (dof order per point [u_x, u_y, theta]): bond k = (i, j) contributes
 
     k_ij = w_k V_i xi (k_n B_l B_l^T + k_t B_g B_g^T + k_phi B_p B_p^T)     (6 x 6, N/m)
@@ -103,6 +112,10 @@ class MicropolarForceModel(ForceModel):
         self.bonds = bonds
         self.inv_length = bonds.inv_length
         self.weight = np.ascontiguousarray(bonds.bond_volume * bonds.bond_correction)
+        #: sqrt(g_k) per bond (n_bonds,) when the critical stretch follows the correction
+        self.stretch_scale: NDArray[np.float64] | None = None
+        if surface_correction and getattr(material, "corrected_critical_stretch", False):
+            self.stretch_scale = np.sqrt(bonds.bond_correction)
         self._bounds: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
 
     # -- degrees of freedom ---------------------------------------------------------------
@@ -140,10 +153,13 @@ class MicropolarForceModel(ForceModel):
         return out
 
     def bond_stretch(self, state: State) -> NDArray[np.float64]:
-        """Axial stretch l of every directed bond (n_bonds,) (linearised, as the model)."""
+        """Axial stretch l of every directed bond (n_bonds,) (linearised, as the model);
+        sqrt(g_k) l with ``corrected_critical_stretch`` (module docstring)."""
         b = self.bonds
         out = np.empty(b.n_bonds)
         kern.axial_stretch_2d(self.cloud.x, state.u, b.offsets, b.bond_j, self.inv_length, out)
+        if self.stretch_scale is not None:
+            out *= self.stretch_scale
         return out
 
     def pair_stretch(self, state: State, index: NDArray[np.int64]) -> NDArray[np.float64]:
@@ -154,6 +170,8 @@ class MicropolarForceModel(ForceModel):
         kern.pair_stretch_2d(
             self.cloud.x, state.u, b.bond_i, b.bond_j, self.inv_length, index, out
         )  # fmt: skip
+        if self.stretch_scale is not None:
+            out *= self.stretch_scale[index]
         return out
 
     # -- bounds and tangent -----------------------------------------------------------------

@@ -74,6 +74,11 @@ class MicropolarMaterial:
         rho (kg/m^3), finite and > 0.
     rotational_stiffness_ratio : float
         k_phi / k_t >= 0 (default 1/12, the beam-lattice relation).
+    corrected_critical_stretch : bool
+        With the surface correction on, a bond whose springs the correction scales by
+        g_k breaks at the axial stretch l_c / sqrt(g_k), so that the energy its axial
+        spring stores at rupture, 1/2 g_k k_n l^2 xi, is the one l_c is calibrated
+        with (G_c of the uncorrected continuum springs). Default False.
 
     Raises
     ------
@@ -85,6 +90,7 @@ class MicropolarMaterial:
     poisson_ratio: float
     density: float
     rotational_stiffness_ratio: float = BEAM_ROTATIONAL_RATIO
+    corrected_critical_stretch: bool = False
 
     def __post_init__(self) -> None:
         E, nu, rho = self.youngs_modulus, self.poisson_ratio, self.density
