@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from peridynamics.deck.history_limits import history_errors
 from peridynamics.deck.types import Errors
 
 
@@ -38,24 +39,12 @@ def lps_plasticity_errors(deck: Any) -> Errors:
         errors.append((key, "model lps needs a 3-D body for plasticity (no 2-D deviatoric split)"))
     if getattr(m, "viscoelastic", None) is not None:
         errors.append((key, "material.plasticity and material.viscoelastic do not combine"))
-    solver = deck.solver.type
-    if solver not in ("explicit", "adr"):
-        errors.append(
-            (
-                "solver.type",
-                f"{solver!r} is not available with the plastic LPS (static: Newton with the "
-                "finite-difference tangent cut back past yield in the tests); use explicit "
-                "or adr with material.plasticity",
-            )
-        )
-    elif getattr(deck.solver, "backend", "numba") != "numba":
-        errors.append(("solver.backend", "material.plasticity runs on the Numba backend only"))
-    if getattr(getattr(deck, "thermal", None), "expansion", None) is not None:
-        errors.append(
-            ("thermal.expansion", "material.plasticity has no thermal expansion; remove one")
-        )
-    if getattr(deck, "bodies", None):
-        errors.append(("bodies", "material.plasticity runs in a single body; remove bodies"))
+    errors += history_errors(
+        deck, key, ("explicit", "adr"),
+        "{solver} is not available with the plastic LPS (static: Newton with the "
+        "finite-difference tangent cut back past yield in the tests); use explicit or adr "
+        "with material.plasticity",
+    )  # fmt: skip
     if deck.damage.model == "plastic_strain":
         errors.append(
             (

@@ -9,6 +9,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import Discriminator, Field, Tag, model_validator
 
+from peridynamics.deck.history_limits import history_errors
 from peridynamics.deck.types import Errors, NonNegFloat, NotBool, PosFloat, Strict, tag_of
 
 Angle = Annotated[float, Field(ge=0.0, lt=90.0, allow_inf_nan=False), NotBool]
@@ -73,23 +74,11 @@ def plasticity_errors(deck: Any, law_given: bool) -> Errors:
         errors.append(
             (key, "needs a 3-D body or geometry.plane: strain (no plane-stress return map)")
         )
-    solver = deck.solver.type
-    if solver not in ("explicit", "adr", "static"):
-        errors.append(
-            (
-                "solver.type",
-                f"{solver!r} does not commit the plastic history; use explicit, adr or "
-                "static with material.plasticity",
-            )
-        )
-    elif getattr(deck.solver, "backend", "numba") != "numba":
-        errors.append(("solver.backend", "material.plasticity runs on the Numba backend only"))
-    if getattr(getattr(deck, "thermal", None), "expansion", None) is not None:
-        errors.append(
-            ("thermal.expansion", "material.plasticity has no thermal expansion; remove one")
-        )
-    if getattr(deck, "bodies", None):
-        errors.append(("bodies", "material.plasticity runs in a single body; remove bodies"))
+    errors += history_errors(
+        deck, key, ("explicit", "adr", "static"),
+        "{solver} does not commit the plastic history; use explicit, adr or static with "
+        "material.plasticity",
+    )  # fmt: skip
     if law_given:
         errors.append(
             (

@@ -9,6 +9,7 @@ from typing import Annotated, Any
 
 from pydantic import Field
 
+from peridynamics.deck.history_limits import history_errors
 from peridynamics.deck.types import Errors, Num, PosFloat, Strict
 
 Fraction = Annotated[float, Field(ge=0.0, le=1.0, allow_inf_nan=False), Num]
@@ -31,21 +32,9 @@ def viscoelastic_errors(deck: Any) -> Errors:
     key = "material.viscoelastic"
     if deck.dim != 3:
         errors.append((key, "needs a 3-D body (the 2-D deviatoric split is not implemented)"))
-    solver = deck.solver.type
-    if solver not in ("explicit", "adr"):
-        errors.append(
-            (
-                "solver.type",
-                f"{solver!r} does not integrate the viscoelastic history in time; use "
-                "explicit or adr (with load_time) with material.viscoelastic",
-            )
-        )
-    elif getattr(deck.solver, "backend", "numba") != "numba":
-        errors.append(("solver.backend", "material.viscoelastic runs on the Numba backend only"))
-    if getattr(getattr(deck, "thermal", None), "expansion", None) is not None:
-        errors.append(
-            ("thermal.expansion", "material.viscoelastic has no thermal expansion; remove one")
-        )
-    if getattr(deck, "bodies", None):
-        errors.append(("bodies", "material.viscoelastic runs in a single body; remove bodies"))
+    errors += history_errors(
+        deck, key, ("explicit", "adr"),
+        "{solver} does not integrate the viscoelastic history in time; use explicit or adr "
+        "(with load_time) with material.viscoelastic",
+    )  # fmt: skip
     return errors
