@@ -111,11 +111,11 @@ def local_cloud(deck: dk.Deck, lattice: Lattice, part: WindowedPart, comm: Any) 
     lo, hi = _bounds(comm, part.x[: lay.n_owned])
     cloud = PointCloud(
         x=part.x,
-        volume=np.full(lay.n_local, lattice.cell_volume) if part.volume is None else part.volume,
+        volume=part.volume,
         spacing=lattice.spacing,
         cross_section=lattice.cross_section,
         plane=lattice.plane,
-        irregular=bool(getattr(lattice, "irregular", False)),
+        irregular=lattice.irregular,
         grid_fit=lattice.grid_fit,
         global_ids=lay.local_ids.astype(np.int64),
         body_size=float(max(np.max(hi - lo), lattice.spacing)),
@@ -236,7 +236,7 @@ def cloud_meta(
         spacing=lattice.spacing,
         cross_section=lattice.cross_section,
         plane=lattice.plane,
-        irregular=bool(getattr(lattice, "irregular", False)),
+        irregular=lattice.irregular,
         grid_fit=lattice.grid_fit,
         lo=lo,
         hi=hi,

@@ -50,7 +50,6 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from peridynamics.geometry.cloud import GeometryFitWarning, GridFit, Plane, PointCloud
-from peridynamics.geometry.jitter import jittered
 from peridynamics.geometry.jittered_lattice import jittered_lattice
 from peridynamics.geometry.lattice import (
     Lattice,
@@ -249,27 +248,8 @@ def disc(
 def _jittered_cloud(
     lattice: Lattice, jitter: float, seed: int, volumes: NodalVolumes, thickness: float = 1.0
 ) -> PointCloud:
-    """The points of a lattice, jittered over its whole grid before the cuts (``jitter =
-    0``: :meth:`Lattice.cloud`, bit for bit; else the
-    :class:`~peridynamics.geometry.jittered_lattice.JitteredLattice`'s cloud, whose
-    windows a decomposed run makes without the whole cloud)."""
-    if jitter > 0:
-        return jittered_lattice(lattice, jitter, seed, volumes, thickness).cloud()
-    x, vol = jittered(lattice.grid(), lattice.spacing, lattice.lo, lattice.hi, jitter, seed,
-                      volumes)  # fmt: skip
-    cloud = PointCloud(
-        x=x,
-        volume=vol * thickness if lattice.dim == 2 else vol,
-        spacing=lattice.spacing,
-        cross_section=lattice.cross_section,
-        plane=lattice.plane,
-        irregular=bool(jitter > 0),
-        grid_fit=lattice.grid_fit,
-    )
-    return _cut(cloud, lattice.removed)
-
-
-def _cut(cloud: PointCloud, holes: Sequence[Region]) -> PointCloud:
-    for hole in holes:
-        cloud = cloud.remove(hole)
-    return cloud
+    """The points of a lattice, jittered over its whole grid before the cuts: the
+    :class:`~peridynamics.geometry.jittered_lattice.JitteredLattice`'s cloud, whose windows
+    a decomposed run makes without the whole cloud (``jitter = 0``: the grid's cell
+    centres, each with the volume ``dx^dim``, times ``thickness`` in 2-D)."""
+    return jittered_lattice(lattice, jitter, seed, volumes, thickness).cloud()

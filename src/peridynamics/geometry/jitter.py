@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import Voronoi
 
-__all__ = ["block_volumes", "check_jitter", "grid_offsets", "jittered", "voronoi_volumes"]
+__all__ = ["block_volumes", "check_jitter", "grid_offsets", "voronoi_volumes"]
 
 
 def check_jitter(jitter: float, seed: int) -> None:
@@ -25,31 +25,6 @@ def check_jitter(jitter: float, seed: int) -> None:
         )
     if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
         raise ValueError(f"seed must be an integer >= 0, got {seed!r}")
-
-
-def jittered(
-    x: NDArray[np.float64],
-    dx: float,
-    lo: NDArray[np.float64],
-    hi: NDArray[np.float64],
-    jitter: float,
-    seed: int,
-    volumes: str,
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Grid points ``x`` (n, dim) of the box [lo, hi] (m) moved by uniform offsets in
-    [-jitter dx, jitter dx]^dim, and their nodal volumes (m^dim), shape (n,)."""
-    check_jitter(jitter, seed)
-    if volumes not in ("voronoi", "cell"):
-        raise ValueError(f"volumes must be 'voronoi' or 'cell', got {volumes!r}")
-    dim = x.shape[1]
-    cell = np.full(len(x), dx**dim)
-    if jitter == 0:
-        return x, cell
-    rng = np.random.default_rng(int(seed))
-    moved = np.asarray(x + rng.uniform(-jitter * dx, jitter * dx, size=x.shape), np.float64)
-    if volumes == "cell":
-        return moved, cell
-    return moved, voronoi_volumes(moved, lo, hi, reach=3.0 * dx)
 
 
 def voronoi_volumes(

@@ -75,6 +75,16 @@ class Lattice:
         """Cells along each axis."""
         return tuple(int(a.size) for a in self.axes)
 
+    @property
+    def irregular(self) -> bool:
+        """False: the points are the cell centres of a regular grid."""
+        return False
+
+    def volumes_at(self, index: NDArray[np.intp]) -> NDArray[np.float64]:
+        """Nodal volumes (m^3) of the grid points of indices ``index`` (n, dim): the
+        cell volume of each."""
+        return np.full(len(index), self.cell_volume)
+
     def with_removed(self, *regions: Region) -> Lattice:
         """The lattice with further regions removed (notches)."""
         return Lattice(

@@ -119,22 +119,17 @@ def own_families(bonds: Bonds, cloud: PointCloud, n_owned: int | NDArray[np.bool
     of a mask (n_local,)) of a list built on the local cloud, each family in the serial
     order; the other points get empty families."""
     assert cloud.global_ids is not None
-    if not isinstance(n_owned, int | np.integer):  # a mask (several bodies)
+    counts = np.diff(bonds.offsets)
+    if isinstance(n_owned, int | np.integer):
+        keep = np.arange(len(counts)) < n_owned
+    else:  # a mask (several bodies)
         keep = np.asarray(n_owned, dtype=bool)
-        counts = np.where(keep, np.diff(bonds.offsets), 0)
-        offsets = np.zeros(len(counts) + 1, dtype=np.int64)
-        np.cumsum(counts, out=offsets[1:])
-        sel = keep[bonds.bond_i]
-        bond_j = np.ascontiguousarray(bonds.bond_j[sel])
-        intact = np.ascontiguousarray(bonds.bond_intact[sel])
-        _sort_families(offsets, bond_j, intact, cloud.global_ids)
-        return bonds.replace(offsets=offsets, bond_j=bond_j, bond_intact=intact)
-    end = int(bonds.offsets[n_owned])
-    offsets = bonds.offsets.copy()
-    offsets[n_owned + 1 :] = end
-    bond_j = np.ascontiguousarray(bonds.bond_j[:end])
-    intact = np.ascontiguousarray(bonds.bond_intact[:end])
-    _sort_families(offsets[: n_owned + 1], bond_j, intact, cloud.global_ids)
+    offsets = np.zeros(len(counts) + 1, dtype=np.int64)
+    np.cumsum(np.where(keep, counts, 0), out=offsets[1:])
+    sel = np.repeat(keep, counts)  # the bonds of the kept rows, in CSR order
+    bond_j = np.ascontiguousarray(bonds.bond_j[sel])
+    intact = np.ascontiguousarray(bonds.bond_intact[sel])
+    _sort_families(offsets, bond_j, intact, cloud.global_ids)
     return bonds.replace(offsets=offsets, bond_j=bond_j, bond_intact=intact)
 
 

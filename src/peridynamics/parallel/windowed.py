@@ -49,15 +49,15 @@ class WindowedPart:
     n_family : points with a bond family (owned and first ghost layer).
     replicated_bytes : bytes of the arrays every rank holds whatever its share
         (slab ids, the boxes of the ranks).
-    volume : (n_local,) nodal volumes (m^3) of a jittered lattice's points (its
-        ``volumes_at``); ``None``: every point has the lattice's cell volume.
+    volume : (n_local,) nodal volumes (m^3) of its local points (the lattice's
+        ``volumes_at``).
     """
 
     layout: Layout
     x: NDArray[np.float64]
     n_family: int
     replicated_bytes: int
-    volume: NDArray[np.float64] | None = None
+    volume: NDArray[np.float64]
 
 
 def windowed_layout(
@@ -108,6 +108,5 @@ def windowed_layout(
     recv, send = build_exchange_lists(comm, owner[ghosts], ids[owned], ids[ghosts])
     layout = Layout(rank, size, n_global, ids[local], len(owned), recv, send)
     replicated = int(slab_start.nbytes + sum(lo.nbytes + hi.nbytes for lo, hi in boxes))
-    volumes_at = getattr(lattice, "volumes_at", None)  # a jittered lattice's own volumes
-    volume = None if volumes_at is None else volumes_at(index[local])
+    volume = lattice.volumes_at(index[local])
     return WindowedPart(layout, x[local], len(owned) + int(first.sum()), replicated, volume)
