@@ -29,7 +29,7 @@ from peridynamics.bonds.bonds import Bonds
 from peridynamics.build.errors import SetupError
 from peridynamics.build.geometry import geometry_cloud
 from peridynamics.build.loads import time_function
-from peridynamics.build.materials import build_damage, build_material
+from peridynamics.build.materials import build_contact, build_damage, build_material, build_model
 from peridynamics.build.regions import to_region
 from peridynamics.communicator import SERIAL, active_comm, using
 from peridynamics.evaluation import Evaluator
@@ -159,6 +159,18 @@ def build_bodies_model(
             )
     except ValueError as exc:
         raise SetupError("bodies", str(exc)) from None
+
+
+def build_deck_model(
+    deck: dk.Deck, cloud: PointCloud, bonds: Bonds, body_forces: list
+) -> Evaluator:
+    """The evaluator of a deck: :func:`build_bodies_model` (with the deck's contact) for
+    several deformable bodies, else :func:`~peridynamics.build.materials.build_model`;
+    the same in one process and on a rank of a decomposed run."""
+    if not has_bodies(deck):
+        return build_model(deck, cloud, bonds, body_forces)
+    contact = build_contact(deck, cloud, bonds, build_material(deck.material))
+    return build_bodies_model(deck, cloud, bonds, body_layout(deck, cloud), body_forces, contact)
 
 
 def rigid_mass_properties(

@@ -1,8 +1,8 @@
 """Build one rank's part of a decomposed run from a deck (``mpiexec -n N peridynamics run``).
 
-A body that is a regular grid is made by every rank without the global point cloud:
-each makes only its owned points and ghosts (:mod:`peridynamics.build.windowed`).
-Other bodies (jittered or mesh geometries, several bodies) are built whole on every
+A body that is a grid, jittered or not, is made by every rank without the global point
+cloud: each makes only its owned points and ghosts (:mod:`peridynamics.build.windowed`).
+Other bodies (mesh geometries, several bodies) are built whole on every
 rank, which then cuts out its points and ghosts (:mod:`peridynamics.parallel.local`;
 with several bodies each rank owns points of one body,
 :mod:`peridynamics.parallel.bodies`).
@@ -24,13 +24,12 @@ from peridynamics.bonds.partial_volume import search_radius
 from peridynamics.build.bodies import (
     attach_rigid_bodies,
     body_layout,
-    build_bodies_model,
+    build_deck_model,
     has_bodies,
 )
 from peridynamics.build.cloud import build_bonds_for, build_cloud
 from peridynamics.build.errors import SetupError
 from peridynamics.build.loads import build_conditions
-from peridynamics.build.materials import build_contact, build_material, build_model
 from peridynamics.build.plausibility import warn_horizon
 from peridynamics.build.solvers import build_solver
 from peridynamics.build.windowed import agreed, cloud_meta, conditions, deck_lattice
@@ -73,7 +72,7 @@ def ghost_families(deck: dk.Deck, cloud: Any) -> bool:
     moment surface correction of irregular clouds); not for plain bond-based PMB, which
     reads only u and v there (one layer, no redundant work)."""
     plain = deck.material.model in ("pmb", "bond_based") and deck.damage.bond_law == "brittle"
-    irregular = bool(getattr(cloud, "irregular", False))  # a lattice is regular
+    irregular = bool(cloud.irregular)  # a PointCloud or a Lattice (jittered: irregular)
     return not plain or deck.damage.sed_softening is not None or irregular
 
 
@@ -134,11 +133,7 @@ def _rank_model(
     active (``bounds``: the whole body's corners, m)."""
     with using(mpi):
         bonds = own_families(build_bonds_for(deck, cloud, bounds), cloud, n_family)
-        if has_bodies(deck):
-            contact = build_contact(deck, cloud, bonds, build_material(deck.material))
-            model = build_bodies_model(deck, cloud, bonds, body_layout(deck, cloud), body, contact)
-        else:
-            model = build_model(deck, cloud, bonds, body)
+        model = build_deck_model(deck, cloud, bonds, body)
         attach_rigid_bodies(deck, cloud, model, bonds)
         solver = build_solver(deck, cloud, model, body, kin, init)
     return {

@@ -15,16 +15,10 @@ from pathlib import Path
 from typing import Any, Self
 
 from peridynamics import deck as dk
-from peridynamics.build.bodies import (
-    attach_rigid_bodies,
-    body_layout,
-    build_bodies_model,
-    has_bodies,
-)
+from peridynamics.build.bodies import attach_rigid_bodies, build_deck_model
 from peridynamics.build.cloud import build_bonds_for, build_cloud
 from peridynamics.build.errors import SetupError
 from peridynamics.build.loads import build_conditions
-from peridynamics.build.materials import build_contact, build_material, build_model
 from peridynamics.build.solvers import build_solver
 from peridynamics.deck.thermal_coupling import coupling_of
 from peridynamics.evaluation import Evaluator
@@ -87,12 +81,8 @@ class SimulationSetup:
             assert isinstance(m, dk.Material)
             material = MATERIALS[m.model](m.youngs_modulus, m.density, m.micromodulus_profile)
             model: Evaluator = FDMModel1D(cloud, material, body, damping=s.damping)
-        elif has_bodies(deck):
-            layout = body_layout(deck, cloud)
-            contact = build_contact(deck, cloud, bonds, build_material(deck.material))
-            model = build_bodies_model(deck, cloud, bonds, layout, body, contact)
         else:
-            model = build_model(deck, cloud, bonds, body)
+            model = build_deck_model(deck, cloud, bonds, body)
         attach_rigid_bodies(deck, cloud, model, bonds)
         solver = build_solver(deck, cloud, model, body, kin, init)
         return cls(deck, cloud, model, solver, setup_s=time.perf_counter() - t0)
