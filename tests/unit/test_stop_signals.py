@@ -210,3 +210,43 @@ def test_the_command_line_starts_without_numba() -> None:
     )  # fmt: skip
     assert got.returncode == 0, got.stderr
     assert got.stdout.strip() == "", got.stdout
+
+
+def test_a_start_up_signal_that_was_wrapped_still_ends_with_its_exit_code(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """SciPy's pybind11 modules turn a KeyboardInterrupt during their initialisation
+    into ``ImportError: initialization failed`` (seen here 1.0-1.3 s into start-up: exit
+    1 with a traceback): the signal recorded by the start-up handler decides the exit."""
+    import peridynamics.cli.entry as entry
+    from peridynamics.app.run_progress import note_startup_stop
+    from peridynamics.cli import main
+
+    def wrapped(argv: list[str] | None) -> int:
+        note_startup_stop(signal.SIGTERM)
+        raise ImportError("initialization failed")
+
+    monkeypatch.setattr(entry, "run_command", wrapped)
+    assert main(["check", str(BAR)]) == 128 + signal.SIGTERM
+    monkeypatch.setattr(entry, "run_command", lambda argv: int(1 / 0))
+    with pytest.raises(ZeroDivisionError):  # no signal: an error stays an error
+        main(["check", str(BAR)])
+
+
+def test_a_start_up_signal_that_was_swallowed_stops_the_run_before_its_first_step(
+    tmp_path: Path,
+) -> None:
+    """A signal whose KeyboardInterrupt some C code cleared (seen in CI: Ctrl-C 0.42 s
+    into start-up, then the whole run and exit 0) still stops the run: the run loop's
+    stop request starts as requested, so the run ends interrupted at step 0."""
+    from peridynamics.api.deck import Deck
+    from peridynamics.api.simulation import Simulation
+    from peridynamics.app.run import RunInterrupted
+    from peridynamics.app.run_progress import note_startup_stop, startup_stop
+
+    sim = Simulation(Deck.from_file(BAR, SETS), out=tmp_path / "run")
+    note_startup_stop(signal.SIGINT)
+    with pytest.raises(RunInterrupted) as stopped:
+        sim.run(quiet=True)
+    assert stopped.value.step == 0
+    assert startup_stop() is None  # acted on once

@@ -27,11 +27,37 @@ def signal_name(signum: int) -> str:
         return f"signal {signum}"
 
 
+#: a stop signal that the command line's start-up handler received
+#: (:func:`peridynamics.cli.main`) and that no run loop has acted on yet
+_startup_stops: list[int] = []
+
+
+def note_startup_stop(signum: int) -> None:
+    """Record a stop signal received during start-up. The handler also raises
+    KeyboardInterrupt, but library code may swallow it (C code that clears every error)
+    or wrap it (pybind11's and PyO3's module initialisers turn it into an ImportError or
+    a panic); the record lets the command line still end with 128 + the signal's number
+    and makes the next :class:`StopRequest` start as requested."""
+    _startup_stops[:] = [int(signum)]
+
+
+def startup_stop() -> int | None:
+    """The stop signal recorded by :func:`note_startup_stop` and not yet acted on."""
+    return _startup_stops[-1] if _startup_stops else None
+
+
+def clear_startup_stop() -> None:
+    """Forget a recorded start-up stop signal (each command starts without one)."""
+    _startup_stops.clear()
+
+
 class StopRequest:
     """While active (a context manager, main thread only), the first of the
     :data:`STOP_SIGNALS` only sets ``requested`` (and ``signum``) so that the run loop
     stops between two steps; a second one raises KeyboardInterrupt at once. Elsewhere
-    the signals keep their handlers."""
+    the signals keep their handlers. A stop signal recorded during start-up and lost
+    on the way (:func:`note_startup_stop`) makes it start as requested: the run then
+    stops before its first step."""
 
     def __init__(self) -> None:
         self.requested = False
@@ -45,6 +71,9 @@ class StopRequest:
         self.signum = signum
 
     def __enter__(self) -> StopRequest:
+        if _startup_stops:
+            self.requested, self.signum = True, _startup_stops.pop()
+            _startup_stops.clear()
         if threading.current_thread() is threading.main_thread():
             for sig in STOP_SIGNALS:
                 self._previous[sig] = signal.signal(sig, self._handler)

@@ -27,7 +27,13 @@ from typing import Any
 
 # light modules (the standard library only): the stop signals, their names, exit codes
 from peridynamics.app.exit_codes import exit_for_signal
-from peridynamics.app.run_progress import STOP_SIGNALS, signal_name
+from peridynamics.app.run_progress import (
+    STOP_SIGNALS,
+    clear_startup_stop,
+    note_startup_stop,
+    signal_name,
+    startup_stop,
+)
 
 
 class StopSignal(KeyboardInterrupt):
@@ -39,6 +45,7 @@ class StopSignal(KeyboardInterrupt):
 
 
 def _raise_stop(signum: int, frame: Any) -> None:
+    note_startup_stop(signum)
     raise StopSignal(signum)
 
 
@@ -46,34 +53,43 @@ def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``peridynamics`` console script (exit code returned)."""
     from threading import current_thread, main_thread
 
-    if current_thread() is main_thread():  # SIGINT keeps Python's KeyboardInterrupt
+    clear_startup_stop()
+    previous: dict[int, Any] = {}
+    if current_thread() is main_thread():
         for sig in STOP_SIGNALS:
-            if sig != signal.SIGINT:
-                signal.signal(sig, _raise_stop)
+            previous[sig] = signal.signal(sig, _raise_stop)
+    try:
+        code = _import_and_run(argv)
+    finally:
+        clear_startup_stop()
+        for sig, handler in previous.items():  # in-process callers get theirs back
+            signal.signal(sig, handler if handler is not None else signal.SIG_DFL)
+    if argv is None and code > 128 and "mpi4py.MPI" not in sys.modules:
+        _exit_now(code)
+    return code
+
+
+def _import_and_run(argv: list[str] | None) -> int:
+    """Import the commands and run one. A stop signal during start-up ends with 128 +
+    its number even when the KeyboardInterrupt it raised was wrapped on the way (an
+    import's C code: pydantic-core, SciPy's pybind11 modules) or swallowed (then the
+    run stops before its first step, :class:`~peridynamics.app.run_progress.StopRequest`)."""
     try:
         from peridynamics.cli.entry import run_command
-    except Exception as exc:  # an interrupt that a C extension wrapped (pydantic-core
-        signum = _wrapped_signal(exc)  # builds the deck's validators at import)
+
+        return run_command(argv)
+    except SystemExit:
+        raise
+    except BaseException as exc:
+        signum = _wrapped_signal(exc) or startup_stop()
         if signum is None:
             raise
         sys.stderr.write(
-            f"interrupted ({signal_name(signum)}) during start-up; nothing was written\n"
-        )
-        if argv is None:
-            _exit_now(exit_for_signal(signum))
-        return exit_for_signal(signum)
-    except KeyboardInterrupt as exc:
-        signum = getattr(exc, "signum", int(signal.SIGINT))
-        sys.stderr.write(
-            f"interrupted ({signal_name(signum)}) during start-up; nothing was written\n"
+            f"interrupted ({signal_name(signum)}) during start-up; nothing more was written\n"
         )
         if argv is None:  # the interrupt may have landed in C code (an import's)
             _exit_now(exit_for_signal(signum))
         return exit_for_signal(signum)
-    code = run_command(argv)
-    if argv is None and code > 128 and "mpi4py.MPI" not in sys.modules:
-        _exit_now(code)
-    return code
 
 
 def _wrapped_signal(exc: BaseException) -> int | None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import signal
 import sys
 import warnings
 
@@ -32,7 +33,7 @@ def run_command(argv: list[str] | None = None) -> int:
         return int(args.func(args))
     except KeyboardInterrupt as exc:  # outside a run's loop (set-up), or a second one
         signum = getattr(exc, "signum", None)
-        if signum is None:
+        if signum is None or signum == signal.SIGINT:
             err("interrupted (Ctrl-C); nothing more was written")
             return EXIT_INTERRUPTED
         err(f"interrupted ({signal_name(signum)}); nothing more was written")
