@@ -6,10 +6,12 @@ keys with bounds and a scale), the targets (a simulated history curve or a summa
 scalar against measured data, :mod:`peridynamics.app.calibrate_data`) and the optimiser
 (:mod:`peridynamics.app.calibrate_fit`). Each parameter vector is one ``peridynamics
 run`` in ``DIR/runs/run_<hash>``, run by the sweep machinery in parallel processes
-(:mod:`peridynamics.app.calibrate_runs`); a calibration started again over the same
-folder reads back the runs it has. The outputs (:mod:`peridynamics.app.calibrate_report`)
-are ``report.json``, ``report.md``, ``fit.png``, ``fit_<target>.csv``,
-``fitted_deck.yaml`` and ``runs.csv`` (every run: values, cost, status).
+(:mod:`peridynamics.app.calibrate_runs`), under ``mpiexec -n N`` on all ranks while rank
+0 runs the optimiser (:mod:`peridynamics.app.calibrate_mpi`); a calibration started
+again over the same folder reads back the runs it has. The outputs
+(:mod:`peridynamics.app.calibrate_report`) are ``report.json``, ``report.md``,
+``fit.png``, ``fit_<target>.csv``, ``fitted_deck.yaml`` and ``runs.csv`` (every run:
+values, cost, status).
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ import numpy as np
 
 from peridynamics.app.calibrate_data import load_targets, residuals
 from peridynamics.app.calibrate_fit import Objective, optimise, uncertainty
+from peridynamics.app.calibrate_mpi import Ranks, serve
 from peridynamics.app.calibrate_report import (
     fitted_deck,
     markdown,
@@ -40,6 +43,8 @@ from peridynamics.app.calibrate_spec import (
 )
 from peridynamics.app.checks import err
 from peridynamics.app.exit_codes import EXIT_INTERRUPTED, EXIT_INVALID, EXIT_OK
+from peridynamics.app.sweep_run import sigterm_as_interrupt
+from peridynamics.parallel.launch import LaunchError, mpi_comm
 
 
 def _runs_csv(path: Path, obj: Objective, runner: Runner) -> None:
@@ -62,6 +67,7 @@ def calibrate(
     quiet: bool = False,
     allow_large: bool = False,
     spec_name: str = "",
+    ranks: Ranks | None = None,
 ) -> dict[str, Any]:
     """Fit ``spec.parameters`` of ``deck`` to ``spec.targets``; write the outputs to
     ``out`` and return the report (``report.json``).
@@ -78,6 +84,9 @@ def calibrate(
         Folder that relative data paths of the targets start from.
     sets
         Extra ``--set`` overrides of every run (after ``spec.set``).
+    ranks
+        Under ``mpiexec -n N`` (on rank 0; the others :func:`~peridynamics.app.
+        calibrate_mpi.serve`): every batch of runs is divided among the ranks.
 
     Raises
     ------
@@ -90,7 +99,8 @@ def calibrate(
     params = spec.parameters
     all_sets = [*spec.set, *(sets or [])]
     out.mkdir(parents=True, exist_ok=True)
-    runner = Runner(deck, all_sets, params, out, spec.options.jobs, quiet, allow_large)
+    runner = Runner(deck, all_sets, params, out, spec.options.jobs, quiet, allow_large,
+                    ranks=ranks)  # fmt: skip
 
     def progress(batch: list[Any]) -> None:
         if not quiet:
@@ -182,7 +192,30 @@ def _spec_of(args: argparse.Namespace) -> tuple[CalibrationSpec, Path, str, dict
 
 def cmd_calibrate(args: argparse.Namespace) -> int:
     """Run a calibration (module docstring); exit 0 done, 2 bad input, 130 interrupted.
-    The flag form writes the calibration file it built to ``DIR/calibration.yml``."""
+    The flag form writes the calibration file it built to ``DIR/calibration.yml``.
+    Under ``mpiexec -n N`` rank 0 does all of that and the other ranks run their share
+    of each batch of runs; every rank exits with rank 0's code."""
+    try:
+        comm = mpi_comm()
+    except LaunchError as exc:
+        err(f"calibrate: {exc}")
+        return EXIT_INVALID
+    if comm is None:
+        return _calibrate_command(args, None)
+    ranks = Ranks.of(comm)
+    if ranks.rank != 0:
+        return serve(ranks)
+    code = 1  # an unexpected error: the other ranks still stop
+    try:
+        with sigterm_as_interrupt():
+            code = _calibrate_command(args, ranks)
+    finally:
+        ranks.stop(code)
+    return code
+
+
+def _calibrate_command(args: argparse.Namespace, ranks: Ranks | None) -> int:
+    """:func:`cmd_calibrate` on one process, or on rank 0 with ``ranks``."""
     try:
         spec, base, spec_name, flag_data = _spec_of(args)
         if not Path(args.deck).is_file():
@@ -204,14 +237,14 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
             from peridynamics.app.calibrate_sobol import run_sobol
 
             result = run_sobol(spec, deck, out, base, args.sobol, args.set, args.quiet,
-                               args.allow_large)  # fmt: skip
+                               args.allow_large, ranks)  # fmt: skip
             if not args.quiet:
                 print(f"Sobol' indices of {len(result['outputs'])} output(s) from "
                       f"{result['samples']} runs: wrote {out / 'sobol.json'}, "
                       f"{out / 'sobol.csv'}, {out / 'sobol.png'}")  # fmt: skip
             return EXIT_OK
         report = calibrate(spec, deck, out, base, args.set, args.quiet, args.allow_large,
-                           spec_name)  # fmt: skip
+                           spec_name, ranks)  # fmt: skip
     except CalibrationError as exc:
         err(str(exc))
         return EXIT_INVALID

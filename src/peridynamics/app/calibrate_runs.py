@@ -1,6 +1,7 @@
 """The runs of a calibration: each parameter vector is a case of the sweep machinery
 (:mod:`peridynamics.app.sweep_run`), a ``peridynamics run`` process in its own folder
-under ``DIR/runs``, a batch of them ``jobs`` at a time.
+under ``DIR/runs``, a batch of them ``jobs`` at a time (under ``mpiexec -n N``, divided
+among the ranks: :mod:`peridynamics.app.calibrate_mpi`).
 
 The folder of a run is named from its parameter values and holds ``case.json`` with
 the fingerprint of its validated deck; a calibration started again over the same folder
@@ -20,10 +21,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from peridynamics.app.calibrate_mpi import Batch, Ranks, runs_plan
 from peridynamics.app.calibrate_spec import CalibrationError, Parameter
 from peridynamics.app.sweep_cases import Case, Override, validate, yaml_text
-from peridynamics.app.sweep_run import Plan, child_env, death_signal, run_cases
-from peridynamics.parallel.launch import threads_per_process
+from peridynamics.app.sweep_run import run_cases
 
 
 def run_folder(params: list[Parameter], values: list[float]) -> str:
@@ -34,13 +35,15 @@ def run_folder(params: list[Parameter], values: list[float]) -> str:
 
 @dataclass
 class RunRecord:
-    """One finished run: its values, folder, status and wall time."""
+    """One finished run: its values, folder, status, wall time and the MPI rank that ran
+    (or read back) it."""
 
     values: list[float]
     folder: str
     status: str
     wall_s: float | None
     cached: bool
+    rank: int = 0
 
 
 @dataclass
@@ -61,6 +64,8 @@ class Runner:
         Runs at a time.
     quiet : bool
         No progress lines.
+    ranks : Ranks or None
+        Under ``mpiexec -n N`` (rank 0): each batch is divided among the ranks.
     """
 
     deck: Path
@@ -71,6 +76,7 @@ class Runner:
     quiet: bool = False
     allow_large: bool = False
     log: list[RunRecord] = field(default_factory=list)
+    ranks: Ranks | None = None
     on_batch: Callable[[list[RunRecord]], None] | None = None
 
     @property
@@ -98,13 +104,14 @@ class Runner:
         for values in points:
             unique.setdefault(run_folder(self.params, values), values)
         cases = self.cases(list(unique.values()))
-        threads = threads_per_process(self.jobs, 1)
-        plan = Plan(
-            self.deck, list(self.sets), self.out / "runs", child_env(threads), None,
-            self.allow_large, True, preexec=death_signal(),
-        )  # fmt: skip
-        plan.out.mkdir(parents=True, exist_ok=True)
-        records, interrupted = run_cases(cases, plan, self.jobs, lambda rec: None)
+        runs = self.out / "runs"
+        runs.mkdir(parents=True, exist_ok=True)
+        if self.ranks is None:
+            plan = runs_plan(self.deck, self.sets, runs, self.jobs, self.allow_large)
+            records, interrupted = run_cases(cases, plan, self.jobs, lambda rec: None)
+        else:
+            job = Batch(self.deck, list(self.sets), runs, self.jobs, self.allow_large, cases)
+            records, interrupted = self.ranks.run(job)
         if interrupted:
             raise KeyboardInterrupt
         by_folder = {}
@@ -112,7 +119,7 @@ class Runner:
             values = unique[rec["folder"]]
             by_folder[rec["folder"]] = RunRecord(
                 [float(v) for v in values], rec["folder"], rec["status"], rec["wall_s"],
-                rec["status"] == "skipped-done",
+                rec["status"] == "skipped-done", rec.get("rank", 0),
             )  # fmt: skip
         batch = list(by_folder.values())
         self.log.extend(batch)
@@ -152,9 +159,12 @@ def _values_text(params: list[Parameter], values: list[float]) -> str:
 def summary_of(runner: Runner) -> dict[str, Any]:
     """Counts and wall time of the runs."""
     made = [r for r in runner.log if not r.cached]
+    ranks = 1 if runner.ranks is None else runner.ranks.size
     return {
         "runs": len(made),
         "runs_read_back": len(runner.log) - len(made),
         "runs_wall_s": float(sum(r.wall_s or 0.0 for r in made)),
         "failed": sum(1 for r in runner.log if r.status not in ("completed", "skipped-done")),
+        "mpi_ranks": ranks,
+        "runs_by_rank": [sum(1 for r in made if r.rank == k) for k in range(ranks)],
     }

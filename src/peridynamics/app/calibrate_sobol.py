@@ -70,7 +70,9 @@ def sobol_from(
         raise CalibrationError("a Sobol' run gave no finite output; see runs.csv and run.log")
     out: dict[str, Any] = {"samples": len(points), "base_samples": n, "outputs": {}}
     for k, name in enumerate(names):
-        si = analyze.analyze(problem, ys[:, k], calc_second_order=False, seed=seed)
+        # SALib's analyze reads seed 0 as no seed (bootstrap intervals then differ
+        # from run to run): its bootstrap gets seed + 1
+        si = analyze.analyze(problem, ys[:, k], calc_second_order=False, seed=seed + 1)
         out["outputs"][name] = {
             lab: {key: float(si[key][j]) for key in ("S1", "S1_conf", "ST", "ST_conf")}
             for j, lab in enumerate(labels)
@@ -113,10 +115,12 @@ def write_sobol(out: Path, result: dict[str, Any]) -> list[str]:
 
 def run_sobol(
     spec: Any, deck: Path, out: Path, base: Path, n: int, sets: list[str] | None = None,
-    quiet: bool = False, allow_large: bool = False,
+    quiet: bool = False, allow_large: bool = False, ranks: Any = None,
 ) -> dict[str, Any]:  # fmt: skip
     """Sobol' indices of a calibration's outputs (module docstring): runs in
-    ``out/runs`` (read back when there), ``sobol.json``, ``sobol.csv``, ``sobol.png``."""
+    ``out/runs`` (read back when there), ``sobol.json``, ``sobol.csv``, ``sobol.png``;
+    ``ranks`` (:class:`~peridynamics.app.calibrate_mpi.Ranks`, on rank 0 under
+    ``mpiexec -n N``): each batch of runs divided among the ranks."""
     import json
 
     from peridynamics.app.calibrate_data import load_targets, residuals
@@ -126,7 +130,7 @@ def run_sobol(
     targets = load_targets(spec.targets, base)
     out.mkdir(parents=True, exist_ok=True)
     runner = Runner(deck, [*spec.set, *(sets or [])], spec.parameters, out, spec.options.jobs,
-                    quiet, allow_large)  # fmt: skip
+                    quiet, allow_large, ranks=ranks)  # fmt: skip
     names = ["cost", *(f"rms.{td.spec.name}" for td in targets)]
 
     def values(folder: Path) -> NDArray[np.float64]:

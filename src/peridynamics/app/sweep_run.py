@@ -250,7 +250,7 @@ def _finish(run: Running, code: int, plan: Plan, stopped: bool) -> dict[str, Any
 
 
 @contextlib.contextmanager
-def _sigterm_as_interrupt() -> Iterator[None]:
+def sigterm_as_interrupt() -> Iterator[None]:
     """SIGTERM (a batch system's time limit) stops the sweep as Ctrl-C does."""
 
     def handler(signum: int, frame: Any) -> None:
@@ -306,7 +306,7 @@ def run_cases(
         records[rec["case"]] = rec
         on_done(rec)
 
-    with _sigterm_as_interrupt():
+    with sigterm_as_interrupt():
         try:
             while pending or running:
                 while pending and len(running) < jobs:

@@ -43,7 +43,8 @@ def register(sub: Any) -> None:
         description="Fit the deck values named in a calibration file (parameters with "
         "bounds and scale), or by --fit flags, to measured data (targets: a history "
         "curve or a summary scalar); every trial is a run in DIR/runs, run in parallel "
-        "and read back when the calibration is started again. Writes report.md, "
+        "(--jobs processes; under mpiexec -n N on all ranks) and read back when the "
+        "calibration is started again. Writes report.md, "
         "report.json, fit.png, fit_<target>.csv, runs.csv and fitted_deck.yaml.",
         epilog="exit codes:\n  0    done\n  2    bad arguments, calibration file, data or "
         "deck (nothing fitted)\n  130  interrupted (Ctrl-C or SIGTERM): run the same "
