@@ -211,7 +211,6 @@ def test_a_checkpoint_keeps_the_history_and_resumes_bit_for_bit(tmp_path) -> Non
          "material.plasticity.type"),
         ({"viscoelastic": {"fraction": 0.5, "relaxation_time": 1.0}}, "material.plasticity"),
         ({"solver": {"type": "fatigue"}}, "solver.type"),
-        ({"solver": {"type": "static"}}, "solver.type"),
         ({"solver": {"steps": 5, "backend": "warp"}}, "solver.backend"),
         ({"geometry": {"type": "rectangle", "size": [0.01, 0.005]}}, "material.plasticity"),
         ({"damage": {"model": "plastic_strain", "critical_plastic_strain": 0.1}}, "damage.model"),

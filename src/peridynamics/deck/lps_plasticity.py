@@ -1,9 +1,9 @@
 """Checks of ``material.plasticity`` on the LPS family (the elastic-plastic LPS of
 Mitchell (2011), docs/theory_plasticity.md): ``type: j2`` with ``yield_stress`` and
-``hardening_modulus`` (isotropic hardening only), a 3-D body, explicit dynamics or
-dynamic relaxation on the Numba backend, one body, no thermal expansion, no
-viscoelasticity, no ``plastic_strain`` damage. A run on several MPI ranks is refused at build time
-(``build/decomposed.py``)."""
+``hardening_modulus`` (isotropic hardening only), a 3-D body, explicit dynamics,
+dynamic relaxation or the static (Newton) solver on the Numba backend, one body, no
+thermal expansion, no viscoelasticity, no ``plastic_strain`` damage. A run on several
+MPI ranks is refused at build time (``build/decomposed.py``)."""
 
 from __future__ import annotations
 
@@ -35,15 +35,22 @@ def lps_plasticity_errors(deck: Any) -> Errors:
                 "kinematic_modulus or use model correspondence",
             )
         )
+    if getattr(p, "strain", "small") != "small":
+        errors.append(
+            (
+                f"{key}.strain",
+                "model lps has the small-strain plastic LPS only; remove strain or use model "
+                "correspondence for strain: logarithmic",
+            )
+        )
     if deck.dim != 3:
         errors.append((key, "model lps needs a 3-D body for plasticity (no 2-D deviatoric split)"))
     if getattr(m, "viscoelastic", None) is not None:
         errors.append((key, "material.plasticity and material.viscoelastic do not combine"))
     errors += history_errors(
-        deck, key, ("explicit", "adr"),
-        "{solver} is not available with the plastic LPS (static: Newton with the "
-        "finite-difference tangent cut back past yield in the tests); use explicit or adr "
-        "with material.plasticity",
+        deck, key, ("explicit", "adr", "static"),
+        "{solver} does not commit the plastic history; use explicit, adr or static with "
+        "material.plasticity",
     )  # fmt: skip
     if deck.damage.model == "plastic_strain":
         errors.append(

@@ -48,7 +48,9 @@ history and proposes a trial one; the force model's history is committed
 (:meth:`~peridynamics.families.base.ForceModel.commit_history`) on a converged solve
 only, never inside the Newton iterations. A cut-back or a failed level therefore starts
 again from the last commit, and the tangent (finite differences for correspondence, on a
-copy of the state) perturbs the displacement about that committed history.
+copy of the state) perturbs the displacement about that committed history. A force
+model with ``newton_line_search = True`` (the elastic-plastic LPS) has its Newton steps
+backtracked (:mod:`peridynamics.solvers.static_line_search`).
 """
 
 from __future__ import annotations
@@ -69,20 +71,21 @@ from peridynamics.solvers import linear as lin
 from peridynamics.solvers.base import StepResult
 from peridynamics.solvers.blas_threads import blas_threads
 from peridynamics.solvers.breaking import PairBreaker
+from peridynamics.solvers.static_breaking import StaticBreaking
 from peridynamics.solvers.static_checks import check_arguments, check_damage, check_finite
 from peridynamics.solvers.static_dofs import StaticDofs, norm
+from peridynamics.solvers.static_line_search import backtrack
 from peridynamics.solvers.static_report import summary_fields
 from peridynamics.solvers.tangent_system import TangentSystem
 from peridynamics.state import State
 
-_EVENT_MARGIN = 1e-9  # lambda_c is raised by this relative margin so the bond breaks
 #: OpenBLAS threads during a solve: its many small BLAS calls (SuperLU's triangular
 #: solves, the Woodbury products) ran up to 6x faster with one thread than with two on
 #: a shared 2-core machine, and leave Numba's force passes alone
 BLAS_THREADS = 1
 
 
-class StaticSolver(StaticDofs):
+class StaticSolver(StaticDofs, StaticBreaking):
     """Newton static solver with load stepping and bond breaking (module docstring).
 
     Parameters
@@ -163,6 +166,7 @@ class StaticSolver(StaticDofs):
             self.breaker = PairBreaker(model.bonds, law.point_s0, breaking, bonds_per_event)
         self.scheme = breaking
         self.linear_model = bool(getattr(fm, "linear", False))
+        self.line_search = bool(getattr(fm, "newton_line_search", False))
         functions = [getattr(c, "function", Constant()) for c in self.constraints]
         functions += [getattr(b, "function", Constant()) for b in model.body_forces]
         self.scalable = (
@@ -190,6 +194,7 @@ class StaticSolver(StaticDofs):
             "update_column_solves": 0,
             "linear_solve_s": 0.0,
             "pinned_points": 0,
+            "line_search_halvings": 0,
         }
         self.system = TangentSystem(
             model, self.width, self.fixed, linear_solver, self.tolerance, self.reuse, self.stats
@@ -251,77 +256,20 @@ class StaticSolver(StaticDofs):
             if it >= self.max_iterations:
                 return False, it, residual
             dq = self.system.solve(s, p, 0.1 * self.tolerance * ref)
+            it += 1
+            if self.line_search:  # the step halved until ||P|| falls (static_line_search)
+                r0 = self._norm(p, self.system.free)
+                self.stats["line_search_halvings"] += backtrack(self, s, dq, r0)
+                continue
             q = self._gather(s).reshape(-1)
             q[self.system.free] += dq
             self._scatter(q.reshape(-1, self.width), s)
             self.model.evaluate(s, commit=False)
-            it += 1
 
     def _norm(self, v: NDArray[np.float64], where: NDArray) -> float:
         """The norm of ``v[where]`` (``where``: a mask or indices of the flat dofs); a
         decomposed solver sums over every rank's owned dofs."""
         return norm(v[where])
-
-    def _ratios(self, s: State, breaker: PairBreaker) -> NDArray[np.float64]:
-        """l / l_c of the breaker's candidate pairs at ``s`` (kept until the state or
-        the bond status changes): the stretch of the candidates alone when the force
-        model gives it (``pair_stretch``), else of every bond."""
-        if self._ratio is None:
-            fm = self.model.force_model
-            c = breaker.candidates
-            pair = getattr(fm, "pair_stretch", None)
-            stretch = pair(s, c) if pair is not None else fm.bond_stretch(s)[c]
-            self._ratio = breaker.pair_ratios(stretch, s.intact)
-        return self._ratio
-
-    def _violations(self, s: State) -> bool:
-        """Compute (and keep) the stretch ratios and the pairs to break of the
-        equilibrium ``s``; True when a bond reached its critical stretch."""
-        self._ratio = self._picked = None
-        if self.breaker is None:
-            return False
-        self._picked = self._pick(s, self.breaker)
-        return bool(len(self._picked))
-
-    def _pick(self, s: State, breaker: PairBreaker) -> NDArray[np.int64]:
-        """The pairs the breaker's scheme breaks at the equilibrium ``s``."""
-        return breaker.pick(self._ratios(s, breaker))
-
-    def _event_factor(self, s: State, breaker: PairBreaker) -> float:
-        """The factor by which the solution ``s`` scales before the next bond breaks."""
-        return breaker.factor(self._ratios(s, breaker))
-
-    def _next_level(self, s: State) -> float:
-        """The next load level: k / N, or the next breaking event when scalable."""
-        k = math.floor(self.lam * self.load_steps + 1e-9) + 1
-        level = min(k / self.load_steps, 1.0)
-        if self.scalable and self.event_driven and self.breaker is not None and self.lam > 0:
-            factor = self._event_factor(s, self.breaker)
-            event = self.lam * factor * (1.0 + _EVENT_MARGIN)
-            if event < level:
-                level = event
-        return level
-
-    def _break_pending(self, s: State, breaker: PairBreaker) -> int:
-        """Break the bonds the last solve left at or over their critical stretch (the
-        breaker's scheme) and update the factorisation; returns the directed bonds
-        broken."""
-        pairs = self._picked
-        if pairs is None:
-            pairs = self._pick(s, breaker)
-        self._ratio = self._picked = None
-        both = breaker.both_directions(pairs)
-        if self._first_break is None and len(pairs):
-            b = self.model.bonds
-            x = self.model.cloud.x
-            mid = 0.5 * (x[b.bond_i[pairs]] + x[b.bond_j[pairs]])
-            self._first_break = (mid.mean(axis=0).tolist(), self.lam)
-        s.intact[both] = 0
-        broken = len(both)
-        s.bonds_broken += broken
-        self.system.remove_pairs(s, pairs)
-        self.stats["events"] += 1
-        return broken
 
     def step(self, s: State) -> StepResult:
         """One equilibrium solve: break bonds first when the last solve left violations

@@ -14,15 +14,18 @@ History (checkpointed): the bond field ``lps_plastic_extension`` (ep, m) and the
 field ``lps_plastic_strain`` (q, the equivalent plastic strain). An evaluation writes
 their trials ``*_trial`` from the committed history; :meth:`PlasticLPSModel.commit_history`
 (called where damage is committed: every explicit step, an accepted ADR load step, a
-converged static level) makes them the history. With zero history and a state below
-yield the force is that of the elastic LPS.
+converged static level, never inside Newton) makes them the history. With zero history
+and a state below yield the force is that of the elastic LPS. The static solver uses
+the consistent tangent of the return from the committed history
+(:mod:`peridynamics.families.lps.plastic_tangent`) and backtracks its Newton steps
+(``newton_line_search``).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -30,6 +33,7 @@ from numpy.typing import NDArray
 from peridynamics.bonds.bonds import Bonds
 from peridynamics.families.base import FieldSpec
 from peridynamics.families.lps.force import LPSForceModel
+from peridynamics.families.lps.plastic_tangent import plastic_lps_tangent
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import lps_plasticity as kernels
 from peridynamics.kernels import reference_lps_plasticity as twins
@@ -89,7 +93,16 @@ class PlasticLPSModel(LPSForceModel):
     plasticity : LPSPlasticity
     surface_correction : bool
         As :class:`~peridynamics.families.lps.force.LPSForceModel`.
+
+    Attributes
+    ----------
+    newton_line_search : bool
+        True: the static solver backtracks its Newton steps
+        (:mod:`peridynamics.solvers.static_line_search`; full steps cycle between yielded
+        sets).
     """
+
+    newton_line_search: ClassVar[bool] = True
 
     def __init__(
         self,
@@ -196,6 +209,11 @@ class PlasticLPSModel(LPSForceModel):
         )  # fmt: skip
         return g
 
-    def tangent(self, state: State) -> sp.csr_matrix | None:  # type: ignore[override]
-        """None: the finite-difference tangent about the committed history."""
-        return None
+    def tangent(self, state: State) -> sp.csr_matrix:
+        """The consistent (algorithmic) tangent K = -d(V f)/du (N/m), (3 n, 3 n) CSR, of
+        the return from the committed history at ``state.u``
+        (:func:`peridynamics.families.lps.plastic_tangent.plastic_lps_tangent`)."""
+        n = len(self.bonds.offsets) - 1
+        ep = state[EXTENSION] if EXTENSION in state else np.zeros(self.bonds.n_bonds)
+        q = state[STRAIN][:n] if STRAIN in state else np.zeros(n)
+        return plastic_lps_tangent(self, state, ep, q)
