@@ -33,6 +33,7 @@ from peridynamics.families.micropolar.material import MicropolarMaterial
 from peridynamics.families.pmb.material import BondBasedMaterial
 from peridynamics.geometry.generators import rectangle
 from peridynamics.loading.conditions import BodyForce, Fixed, PrescribedDisplacement
+from peridynamics.solvers.linear import UnconstrainedModel
 from peridynamics.solvers.linear_static import solve_linear_static
 from peridynamics.solvers.static import StaticSolver
 
@@ -426,7 +427,12 @@ def test_dcb_both_directions_of_a_broken_pair_break(dcb_c: Trace) -> None:
 
 # ------------------------------------------------------------------ 6. failure handling
 @pytest.mark.parametrize("material", ["pmb", "micropolar"])
-def test_unconstrained_body_ends_cleanly_with_a_singular_stiffness(material: str) -> None:
+def test_an_unconstrained_body_is_a_set_up_error_naming_the_boundary_conditions(
+    material: str,
+) -> None:
+    """A stiffness singular at the first solve (nothing holds the rigid-body motion)
+    is an error naming ``boundary_conditions`` and the fix, not a run that ends
+    'completed' with zero displacement and a warning (before: exit 0)."""
     cloud = rectangle((10 * PL_DX, 6 * PL_DX), PL_DX)
     x = cloud.x
     right = np.flatnonzero(x[:, 0] > 9 * PL_DX)
@@ -444,17 +450,23 @@ def test_unconstrained_body_ends_cleanly_with_a_singular_stiffness(material: str
     )
     solver = StaticSolver(model, [], load_steps=2, linear_solver="direct")
     s = solver.init()
-    result = solver.step(s)  # must not raise
-    assert solver.done(s)
-    assert not result.converged
-    summary = solver.summary_fields(s)
-    assert summary["converged"] is False
-    assert summary["load_factor"] == 0.0
-    assert "singular" in summary["message"] or "not positive" in summary["message"], summary[
-        "message"
-    ]
-    assert "failed" in result.events
-    assert np.isfinite(s.u).all() and np.abs(s.u).max() == 0.0  # back at the last level
+    with pytest.raises(UnconstrainedModel, match="hold the rigid-body motions|Hold the rigid") as e:
+        solver.step(s)
+    assert e.value.path == "boundary_conditions"
+    assert np.isfinite(s.u).all()
+
+
+def test_an_unconstrained_deck_exits_2_naming_the_key(tmp_path) -> None:
+    """The command line prints the key and the fix and exits 2 (a set-up error)."""
+    from tests.helpers import EXAMPLES, cli
+
+    deck = EXAMPLES / "lps" / "plate_hole.yaml"
+    got = cli("run", deck, "--out", tmp_path / "run", "--quiet", "--set", "solver.type=static",
+              "--set", "discretisation.spacing=4e-3", "--set", "solver.max_iterations=50",
+              "--set", "output.vtk_every=0")  # fmt: skip
+    assert got.returncode == 2, got.stderr
+    assert "boundary_conditions: the static stiffness is singular" in got.stderr
+    assert "Traceback" not in got.stderr
 
 
 def test_newton_non_convergence_cuts_back_then_stops() -> None:

@@ -163,6 +163,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     from peridynamics.app.run import RunInterrupted
     from peridynamics.build.errors import SetupError
     from peridynamics.solvers import SimulationUnstable
+    from peridynamics.solvers.linear import UnconstrainedModel
 
     if _bad_run_args(args):
         return EXIT_INVALID
@@ -192,7 +193,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         summary = sim.run(out, quiet=quiet, checkpoint_every=every, resume=bool(args.resume))
         if rank != 0:
             return EXIT_OK
-    except SetupError as exc:
+    except (SetupError, UnconstrainedModel) as exc:
         if rank == 0:
             err(f"error: {exc}" if exc.path.startswith("--") else invalid_deck(exc))
         return EXIT_INVALID

@@ -31,6 +31,24 @@ class SingularSystem(ValueError):
     """The free block is singular: a part of the body can move without resistance."""
 
 
+class UnconstrainedModel(SingularSystem):
+    """The stiffness is singular before any load level was reached and before any bond
+    broke: the deck does not hold the rigid-body motion of the body (or of a part of
+    it). ``path`` names the deck key to fix, as
+    :class:`~peridynamics.build.errors.SetupError` does."""
+
+    def __init__(self, detail: str) -> None:
+        self.path = "boundary_conditions"
+        self.message = (
+            "the static stiffness is singular before any load is applied: the body, or a "
+            "part of it, can move as a rigid body. Hold the rigid-body motions with 'fixed' "
+            "conditions on point sets (2-D: both components at one point and one more "
+            "component at a second point; 3-D: three points), or use solver.type: adr, "
+            f"which needs no such support under balanced loads (the linear solver: {detail})"
+        )
+        super().__init__(f"{self.path}: {self.message}")
+
+
 def _scaling(k: sp.csr_matrix) -> NDArray[np.float64]:
     diag = k.diagonal()
     if not np.all(diag > 0):

@@ -45,14 +45,15 @@ from peridynamics.solvers.direct import (
     PIVOT_TOLERANCE,
     DirectSolver,
     SingularSystem,
+    UnconstrainedModel,
     _scaled,
     _scaling,
     direct_backend,
 )
 
 __all__ = [
-    "PIVOT_TOLERANCE", "AMGSolver", "DirectSolver", "SingularSystem", "UpdatedDirect",
-    "_scaled", "_scaling", "choose", "direct_backend", "rigid_modes",
+    "PIVOT_TOLERANCE", "AMGSolver", "DirectSolver", "SingularSystem", "UnconstrainedModel",
+    "UpdatedDirect", "_scaled", "_scaling", "choose", "direct_backend", "rigid_modes",
 ]  # fmt: skip
 
 #: free dofs above which ``linear_solver: auto`` picks the iterative solver (measured:

@@ -255,7 +255,12 @@ class StaticSolver(StaticDofs, StaticBreaking):
                 return True, it, residual
             if it >= self.max_iterations:
                 return False, it, residual
-            dq = self.system.solve(s, p, 0.1 * self.tolerance * ref)
+            try:
+                dq = self.system.solve(s, p, 0.1 * self.tolerance * ref)
+            except lin.SingularSystem as exc:
+                if it == 0 and self.lam == 0.0 and s.bonds_broken == 0:
+                    raise lin.UnconstrainedModel(str(exc)) from exc  # a set-up error
+                raise
             it += 1
             if self.line_search:  # the step halved until ||P|| falls (static_line_search)
                 r0 = self._norm(p, self.system.free)
@@ -306,6 +311,8 @@ class StaticSolver(StaticDofs, StaticBreaking):
                 target = lam0 + 0.5 * (target - lam0)
                 self._scatter(saved, s)
         except lin.SingularSystem as exc:
+            if isinstance(exc, lin.UnconstrainedModel):
+                raise
             self._failed = str(exc)
             self._scatter(saved, s)
             self._set_loads(s, lam0)
