@@ -13,30 +13,35 @@ from peridynamics.deck.history_limits import history_errors
 from peridynamics.deck.types import Errors, NonNegFloat, NotBool, PosFloat, Strict, tag_of
 
 Angle = Annotated[float, Field(ge=0.0, lt=90.0, allow_inf_nan=False), NotBool]
+#: the strain of the return map: corotated U - I, or Hencky ln U (finite strain)
+StrainMeasure = Literal["small", "logarithmic"]
 
 
 class J2Spec(Strict):
     """Von Mises plasticity with linear isotropic (``hardening_modulus``, Pa) and linear
     kinematic (``kinematic_modulus``, Pa) hardening; ``yield_stress`` (Pa) the initial
-    uniaxial yield stress (Simo & Hughes 1998, box 3.2)."""
+    uniaxial yield stress (Simo & Hughes 1998, box 3.2); ``strain`` the strain of the
+    return map (``small``: U - I; ``logarithmic``: ln U, Eterovic & Bathe 1990)."""
 
     type: Literal["j2"]
     yield_stress: PosFloat
     hardening_modulus: NonNegFloat = 0.0
     kinematic_modulus: NonNegFloat = 0.0
+    strain: StrainMeasure = "small"
 
 
 class DruckerPragerSpec(Strict):
     """Perfectly plastic Drucker-Prager cone (Mohr-Coulomb compressive meridian):
     ``cohesion`` (Pa), ``friction_angle`` and ``dilation_angle`` (degrees, 0 <= psi <=
     phi < 90; psi < phi: non-associated flow), ``tension_cutoff`` (Pa, the largest
-    mean stress; default: the apex of the cone)."""
+    mean stress; default: the apex of the cone), ``strain`` as for j2."""
 
     type: Literal["drucker_prager"]
     cohesion: PosFloat
     friction_angle: Angle
     dilation_angle: Angle = 0.0
     tension_cutoff: NonNegFloat | None = None
+    strain: StrainMeasure = "small"
 
     @model_validator(mode="after")
     def _angles(self) -> DruckerPragerSpec:

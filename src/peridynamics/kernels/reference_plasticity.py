@@ -1,4 +1,5 @@
-"""NumPy twins of :mod:`peridynamics.kernels.plasticity` (the test oracle), and the
+"""NumPy twins of :mod:`peridynamics.kernels.plasticity` and
+:mod:`peridynamics.kernels.finite_plasticity` (the test oracles), and the
 algorithmic (consistent) tangent of the J2 return map.
 
 Written from the equations (docs/theory_plasticity.md), vectorised over points, sharing
@@ -127,3 +128,32 @@ def corotated_update(
     s = np.where(on[:, None, None], s, 0.0)
     new = np.where(on[:, None], new, hist)
     return piola, s, new
+
+
+def log_stretch(f: F64) -> tuple[F64, F64, F64]:
+    """(R, ln U, U^-1) of F = R U, shapes (n, 3, 3), from the SVD F = W S V^T: R = W V^T,
+    ln U = V diag(ln S) V^T, U^-1 = V diag(1/S) V^T."""
+    w, sv, vt = np.linalg.svd(f)
+    log_u = np.einsum("nba,nb,nbc->nac", vt, np.log(sv), vt)
+    u_inv = np.einsum("nba,nb,nbc->nac", vt, 1.0 / sv, vt)
+    return w @ vt, log_u, u_inv
+
+
+def hencky_update(
+    fgrad: F64, active: F64, law: int, params: F64, hist: F64
+) -> tuple[F64, F64, F64]:
+    """(P (n, d, d), T (n, 3, 3), trial history) of
+    :func:`.finite_plasticity.hencky_update`: the return map at e = ln U to the rotated
+    Kirchhoff stress T, P = R T U^-1."""
+    n, d, _ = fgrad.shape
+    f = np.tile(_I, (n, 1, 1))
+    f[:, :d, :d] = fgrad
+    r, log_u, u_inv = log_stretch(f)
+    ret = j2_return if law == 0 else dp_return
+    t, new = ret(log_u, hist, params)
+    piola = r @ t @ u_inv
+    on = active > 0
+    piola = np.where(on[:, None, None], piola, 0.0)[:, :d, :d]
+    t = np.where(on[:, None, None], t, 0.0)
+    new = np.where(on[:, None], new, hist)
+    return piola, t, new

@@ -3,7 +3,9 @@
 The pre-pass of :class:`~peridynamics.families.correspondence.force.CorrespondenceForceModel`
 (F, K^-1, the zero-energy-mode control) is kept; the stress comes from the return map of
 the law (:mod:`~peridynamics.families.correspondence.plasticity`) at the corotated
-strain ``U - I`` of ``F = R U``, starting from the committed history:
+strain ``U - I`` of ``F = R U`` (``P = J R s U^-1``), or, when the law's ``strain`` is
+``"logarithmic"``, at the Hencky strain ``ln U`` (the rotated Kirchhoff stress T,
+``P = R T U^-1``), starting from the committed history:
 
 * ``plastic_history`` (n, h): the committed history (a history field: checkpoints keep
   it; zero at the start);
@@ -16,7 +18,8 @@ The force at a displacement is then a function of that displacement and the comm
 history, so dynamic relaxation and the finite-difference tangent see a fixed law inside
 a load step. The stabilisation stays elastic (the linearised bonds of the reference).
 A built-in law runs in the Numba kernel
-:func:`peridynamics.kernels.plasticity.corotated_update`; a user law (``update`` of
+:func:`peridynamics.kernels.plasticity.corotated_update` (log strain:
+:func:`peridynamics.kernels.finite_plasticity.hencky_update`); a user law (``update`` of
 :class:`~peridynamics.families.correspondence.plasticity.PlasticLaw`) runs on the batch
 of owned points after a NumPy polar decomposition.
 """
@@ -36,6 +39,7 @@ from peridynamics.families.correspondence.force import (
 )
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import correspondence as corr_kernels
+from peridynamics.kernels import finite_plasticity as finite_kernels
 from peridynamics.kernels import plasticity as kernels
 from peridynamics.kernels import reference_plasticity as twins
 
@@ -81,6 +85,12 @@ class PlasticCorrespondenceModel(CorrespondenceForceModel):
         self.plasticity = plasticity
         self.history_size = size
         self._law_id: int | None = getattr(plasticity, "law_id", None)
+        #: the strain of the return map: "small" (U - I) or "logarithmic" (ln U)
+        self.strain: str = getattr(plasticity, "strain", "small")
+        if self.strain not in ("small", "logarithmic"):
+            raise ValueError(
+                f"material.plasticity.strain must be 'small' or 'logarithmic', got {self.strain!r}"
+            )
         self._params = (
             plasticity.params(self.law.lame, self.law.shear) if self._law_id is not None else None
         )
@@ -99,23 +109,34 @@ class PlasticCorrespondenceModel(CorrespondenceForceModel):
 
     def update(self, fgrad: F64, active: F64, history: F64) -> tuple[F64, F64, F64]:
         """(P (n, d, d), s (n, 3, 3), trial history (n, h)) at deformation gradients
-        ``fgrad`` (n, d, d) from the committed ``history``; fresh arrays."""
+        ``fgrad`` (n, d, d) from the committed ``history``; fresh arrays. With the log
+        strain, s is the rotated Kirchhoff stress T (Pa)."""
         n, d, _ = fgrad.shape
         if self._law_id is not None:
             piola = np.empty((n, d, d))
             stress = np.empty((n, 3, 3))
             trial = np.empty_like(history)
-            kernels.corotated_update(
+            kernel = (
+                finite_kernels.hencky_update
+                if self.strain == "logarithmic"
+                else kernels.corotated_update
+            )
+            kernel(
                 np.ascontiguousarray(fgrad), np.ascontiguousarray(active), self._law_id,
                 self._params, np.ascontiguousarray(history), trial, piola, stress,
             )  # fmt: skip
             return piola, stress, trial
         f = np.tile(np.eye(3), (n, 1, 1))
         f[:, :d, :d] = fgrad
-        r, u = twins.polar(f)
-        stress, trial = self.plasticity.update(
-            0.5 * (u + np.swapaxes(u, 1, 2)) - np.eye(3), history, self.law.lame, self.law.shear
-        )
+        if self.strain == "logarithmic":
+            r, strain, u_inv = twins.log_stretch(f)
+            scale: F64 = np.ones(n)  # P = R T U^-1
+        else:
+            r, u = twins.polar(f)
+            strain = 0.5 * (u + np.swapaxes(u, 1, 2)) - np.eye(3)
+            u_inv = np.asarray(np.linalg.inv(u), dtype=np.float64)
+            scale = np.asarray(np.linalg.det(f), dtype=np.float64)
+        stress, trial = self.plasticity.update(strain, history, self.law.lame, self.law.shear)
         stress = np.asarray(stress, dtype=np.float64)
         trial = np.asarray(trial, dtype=np.float64)
         if stress.shape != (n, 3, 3) or trial.shape != history.shape:
@@ -123,7 +144,7 @@ class PlasticCorrespondenceModel(CorrespondenceForceModel):
                 f"material.plasticity.update returned shapes {stress.shape}, {trial.shape}; "
                 f"expected {(n, 3, 3)}, {history.shape}"
             )
-        piola = np.linalg.det(f)[:, None, None] * r @ stress @ np.linalg.inv(u)
+        piola = scale[:, None, None] * r @ stress @ u_inv
         on = active > 0
         piola = np.where(on[:, None, None], piola, 0.0)[:, :d, :d]
         stress = np.where(on[:, None, None], stress, 0.0)

@@ -4,8 +4,10 @@ A law maps the corotated small strain ``e = U - I`` of a point (``F = R U``, the
 decomposition of the nonlocal deformation gradient; Warren et al. (2009) use the
 unrotated rate form of the same idea) and the committed history to the stress ``s`` in
 the unrotated frame and the trial history; the force model turns ``s`` into ``P = J R s
-U^-1`` (:mod:`~peridynamics.families.correspondence.plastic_force`). Elasticity is
-isotropic and linear in e; equations: docs/theory_plasticity.md.
+U^-1`` (:mod:`~peridynamics.families.correspondence.plastic_force`). With ``strain=
+"logarithmic"`` the same return map runs on the Hencky strain ``e = ln U`` and returns
+the rotated Kirchhoff stress T, ``P = R T U^-1`` (finite strain; Eterovic & Bathe
+(1990)). Elasticity is isotropic and linear in e; equations: docs/theory_plasticity.md.
 
 * :class:`J2Plasticity`: von Mises yield with linear isotropic (``hardening_modulus``)
   and linear kinematic (``kinematic_modulus``) hardening, radial return (Simo & Hughes
@@ -52,6 +54,18 @@ class PlasticLaw(Protocol):
     def update(self, strain: F64, history: F64, lame: float, shear: float) -> tuple[F64, F64]: ...
 
 
+#: ``material.plasticity.strain``: the strain measure of the return map
+STRAINS = ("small", "logarithmic")
+
+
+def _strain(value: str) -> None:
+    if value not in STRAINS:
+        raise ValueError(
+            f"material.plasticity.strain must be 'small' (corotated U - I) or 'logarithmic' "
+            f"(Hencky ln U, finite strain), got {value!r}"
+        )
+
+
 def _positive(key: str, value: float, zero: bool = False) -> None:
     ok = isinstance(value, int | float) and math.isfinite(value)
     if not ok or value < 0 or (value == 0 and not zero):
@@ -73,11 +87,16 @@ class J2Plasticity:
     kinematic_modulus : float
         Linear kinematic hardening modulus H_kin (Pa), >= 0: the back stress grows by
         ``2/3 H_kin d eps_p``.
+    strain : {"small", "logarithmic"}
+        The strain of the return map: the corotated small strain U - I (stress s, P = J
+        R s U^-1), or the Hencky strain ln U (rotated Kirchhoff stress T, P = R T U^-1;
+        finite strain, Eterovic & Bathe (1990)).
     """
 
     yield_stress: float
     hardening_modulus: float = 0.0
     kinematic_modulus: float = 0.0
+    strain: str = "small"
 
     name: ClassVar[str] = "j2"
     law_id: ClassVar[int] = kernels.LAW_J2
@@ -89,6 +108,7 @@ class J2Plasticity:
         _positive("yield_stress", self.yield_stress)
         _positive("hardening_modulus", self.hardening_modulus, zero=True)
         _positive("kinematic_modulus", self.kinematic_modulus, zero=True)
+        _strain(self.strain)
 
     def params(self, lame: float, shear: float) -> F64:
         """The kernel's parameters [lambda, mu, sigma_y, H_iso, H_kin]."""
@@ -122,12 +142,15 @@ class DruckerPrager:
     tension_cutoff : float or None
         T (Pa), the largest mean stress, 0 <= T <= xi c / eta (the apex of the cone);
         None: the apex (no cut-off beyond the cone).
+    strain : {"small", "logarithmic"}
+        As :class:`J2Plasticity` (tension positive in T, the rotated Kirchhoff stress).
     """
 
     cohesion: float
     friction_angle: float
     dilation_angle: float = 0.0
     tension_cutoff: float | None = None
+    strain: str = "small"
 
     name: ClassVar[str] = "drucker_prager"
     law_id: ClassVar[int] = kernels.LAW_DRUCKER_PRAGER
@@ -137,6 +160,7 @@ class DruckerPrager:
 
     def __post_init__(self) -> None:
         _positive("cohesion", self.cohesion)
+        _strain(self.strain)
         for key in ("friction_angle", "dilation_angle"):
             _positive(key, getattr(self, key), zero=True)
         if self.friction_angle >= 90.0:
