@@ -23,7 +23,15 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from peridynamics.kernels.plasticity import LAW_J2, dp_return, j2_return, polar
+from peridynamics.kernels.plasticity import (
+    LAW_J2,
+    dp_return,
+    embedded,
+    j2_return,
+    polar,
+    rotated_piola,
+    skip_point,
+)
 
 _exact = njit(parallel=True, fastmath=False, cache=True)
 _JACOBI_SWEEPS = 50
@@ -94,23 +102,11 @@ def hencky_update(fgrad, active, law, params, hist_in, hist_out, piola, stress):
     ``hist_out``; arguments as :func:`peridynamics.kernels.plasticity.corotated_update`
     (the history holds log strains)."""
     n = fgrad.shape[0]
-    d = fgrad.shape[1]
-    h = hist_in.shape[1]
     for i in prange(n):
         if active[i] == 0.0:
-            for k in range(h):
-                hist_out[i, k] = hist_in[i, k]
-            for a in range(d):
-                for b in range(d):
-                    piola[i, a, b] = 0.0
-            for a in range(3):
-                for b in range(3):
-                    stress[i, a, b] = 0.0
+            skip_point(hist_in[i], hist_out[i], piola[i], stress[i])
             continue
-        f = np.eye(3)
-        for a in range(d):
-            for b in range(d):
-                f[a, b] = fgrad[i, a, b]
+        f = embedded(fgrad[i])
         r = np.empty((3, 3))
         u = np.empty((3, 3))
         w = np.empty((2, 3, 3))
@@ -129,15 +125,4 @@ def hencky_update(fgrad, active, law, params, hist_in, hist_out, piola, stress):
         for c in range(3):
             vals[c] = math.exp(-vals[c])
         _spectral(vecs, vals, w[0])  # U^-1
-        for a in range(3):  # w[1] = T U^-1
-            for b in range(3):
-                v = 0.0
-                for c in range(3):
-                    v += stress[i, a, c] * w[0, c, b]
-                w[1, a, b] = v
-        for a in range(d):
-            for b in range(d):
-                v = 0.0
-                for c in range(3):
-                    v += r[a, c] * w[1, c, b]
-                piola[i, a, b] = v
+        rotated_piola(r, stress[i], w, 1.0, piola[i])  # P = R T U^-1

@@ -165,6 +165,52 @@ def dp_return(e, hist_in, hist_out, p, s):
     hist_out[9] = hist_in[9] + math.sqrt(2.0 / 3.0 * dsum)
 
 
+@njit(cache=True)
+def skip_point(hist_in, hist_out, piola, stress):
+    """A degenerate point of the per-point laws: its history kept, P (d, d) and the stress
+    (3, 3) zero."""
+    for k in range(hist_in.shape[0]):
+        hist_out[k] = hist_in[k]
+    d = piola.shape[0]
+    for a in range(d):
+        for b in range(d):
+            piola[a, b] = 0.0
+    for a in range(3):
+        for b in range(3):
+            stress[a, b] = 0.0
+
+
+@njit(cache=True)
+def embedded(fgrad):
+    """The deformation gradient ``fgrad`` (d, d) embedded in 3 x 3 (plane strain: F_33 = 1)."""
+    f = np.eye(3)
+    d = fgrad.shape[0]
+    for a in range(d):
+        for b in range(d):
+            f[a, b] = fgrad[a, b]
+    return f
+
+
+@njit(cache=True)
+def rotated_piola(r, stress, w, scale, piola):
+    """``piola`` (d, d) = scale R (stress U^-1), U^-1 given in ``w[0]``; ``w[1]`` scratch
+    (the first Piola-Kirchhoff stress of a stress in the unrotated frame: scale = J for
+    the Cauchy stress s, 1 for the Kirchhoff stress T)."""
+    for a in range(3):  # w[1] = stress U^-1
+        for b in range(3):
+            v = 0.0
+            for c in range(3):
+                v += stress[a, c] * w[0, c, b]
+            w[1, a, b] = v
+    d = piola.shape[0]
+    for a in range(d):
+        for b in range(d):
+            v = 0.0
+            for c in range(3):
+                v += r[a, c] * w[1, c, b]
+            piola[a, b] = scale * v
+
+
 @_exact
 def corotated_update(fgrad, active, law, params, hist_in, hist_out, piola, stress):
     """The built-in laws at every point: P (n, d, d) into ``piola`` and the unrotated
@@ -181,23 +227,11 @@ def corotated_update(fgrad, active, law, params, hist_in, hist_out, piola, stres
     stress : (n, 3, 3) output (Pa).
     """
     n = fgrad.shape[0]
-    d = fgrad.shape[1]
-    h = hist_in.shape[1]
     for i in prange(n):
         if active[i] == 0.0:
-            for k in range(h):
-                hist_out[i, k] = hist_in[i, k]
-            for a in range(d):
-                for b in range(d):
-                    piola[i, a, b] = 0.0
-            for a in range(3):
-                for b in range(3):
-                    stress[i, a, b] = 0.0
+            skip_point(hist_in[i], hist_out[i], piola[i], stress[i])
             continue
-        f = np.eye(3)
-        for a in range(d):
-            for b in range(d):
-                f[a, b] = fgrad[i, a, b]
+        f = embedded(fgrad[i])
         r = np.empty((3, 3))
         u = np.empty((3, 3))
         w = np.empty((2, 3, 3))
@@ -211,15 +245,4 @@ def corotated_update(fgrad, active, law, params, hist_in, hist_out, piola, stres
         for a in range(3):
             u[a, a] += 1.0
         _inverse3(u, w[0])  # U^-1
-        for a in range(3):  # w[1] = s U^-1
-            for b in range(3):
-                v = 0.0
-                for c in range(3):
-                    v += stress[i, a, c] * w[0, c, b]
-                w[1, a, b] = v
-        for a in range(d):
-            for b in range(d):
-                v = 0.0
-                for c in range(3):
-                    v += r[a, c] * w[1, c, b]
-                piola[i, a, b] = jac * v
+        rotated_piola(r, stress[i], w, jac, piola[i])
