@@ -41,6 +41,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from peridynamics.families.lps.tangent import bond_blocks
 from peridynamics.kernels import reference_lps_plasticity as twins
 
 if TYPE_CHECKING:
@@ -129,21 +130,7 @@ def plastic_lps_tangent(
     nn = nv[:, :, None] * nv[:, None, :]
     h = k_ext[:, None, None] * nn + g_all[keep][:, None, None] * (np.eye(3)[None] - nn)
     h *= vol[bi][:, None, None]
-    comp = np.arange(3)
-    rr = (bi[:, None, None] * 3 + comp[None, :, None]) * np.ones((1, 1, 3), dtype=np.intp)
-    cc_j = (bj[:, None, None] * 3 + comp[None, None, :]) * np.ones((1, 3, 1), dtype=np.intp)
-    cc_i = (bi[:, None, None] * 3 + comp[None, None, :]) * np.ones((1, 3, 1), dtype=np.intp)
-    size = 3 * n
-    k_bond = sp.coo_matrix(
-        (
-            np.concatenate([-h.ravel(), h.ravel()]),
-            (
-                np.concatenate([rr.ravel(), rr.ravel()]),
-                np.concatenate([cc_j.ravel(), cc_i.ravel()]),
-            ),
-        ),
-        shape=(size, size),
-    ).tocsr()
+    k_bond = bond_blocks(h, bi, bj, 3 * n)
     # point part: the dilatation and the derivative of the return factor
     bw = _rows(wv * length, nv, bi, bj, n)
     k_pt = bw.T @ sp.diags(vol * ts * (cd + a * (1.0 - scale) / 3.0)) @ bw

@@ -6,9 +6,31 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import scipy.sparse as sp
+from numpy.typing import NDArray
 
 if TYPE_CHECKING:
     from peridynamics.state import State
+
+
+def bond_blocks(h: NDArray[np.float64], bi: NDArray, bj: NDArray, size: int) -> sp.csr_matrix:
+    """The bond part of a tangent: each bond's block ``h`` (nb, d, d) (N/m) at rows of
+    point ``bi`` and columns of ``bj`` with a minus sign, and at the columns of ``bi``
+    with a plus sign; CSR (size, size), duplicates summed."""
+    d = h.shape[1]
+    comp = np.arange(d)
+    rr = (bi[:, None, None] * d + comp[None, :, None]) * np.ones((1, 1, d), dtype=np.intp)
+    cc_j = (bj[:, None, None] * d + comp[None, None, :]) * np.ones((1, d, 1), dtype=np.intp)
+    cc_i = (bi[:, None, None] * d + comp[None, None, :]) * np.ones((1, d, 1), dtype=np.intp)
+    return sp.coo_matrix(
+        (
+            np.concatenate([-h.ravel(), h.ravel()]),
+            (
+                np.concatenate([rr.ravel(), rr.ravel()]),
+                np.concatenate([cc_j.ravel(), cc_i.ravel()]),
+            ),
+        ),
+        shape=(size, size),
+    ).tocsr()
 
 
 def lps_tangent(
@@ -63,20 +85,8 @@ def lps_tangent(
     h = k_ext[:, None, None] * nn + (big_t / r)[:, None, None] * (eye - nn)
     h *= vol[bi][:, None, None]
     comp = np.arange(d)
-    rr = (bi[:, None, None] * d + comp[None, :, None]) * np.ones((1, 1, d), dtype=np.intp)
-    cc_j = (bj[:, None, None] * d + comp[None, None, :]) * np.ones((1, d, 1), dtype=np.intp)
-    cc_i = (bi[:, None, None] * d + comp[None, None, :]) * np.ones((1, d, 1), dtype=np.intp)
     size = n_all * d
-    k_bond = sp.coo_matrix(
-        (
-            np.concatenate([-h.ravel(), h.ravel()]),
-            (
-                np.concatenate([rr.ravel(), rr.ravel()]),
-                np.concatenate([cc_j.ravel(), cc_i.ravel()]),
-            ),
-        ),
-        shape=(size, size),
-    ).tocsr()
+    k_bond = bond_blocks(h, bi, bj, size)
     # B = d theta / du, rows: points, columns: dofs
     g = (ts[bi] * wv * length)[:, None] * nv  # (nb, d)
     b_rows = np.repeat(bi, d)
