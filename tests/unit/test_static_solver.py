@@ -613,3 +613,29 @@ def test_static_solver_refuses_sed_softening() -> None:
     )  # fmt: skip
     assert proc.returncode == 2, proc.stderr
     assert "damage.sed_softening: the static solver does not soften bonds" in proc.stderr
+
+
+def test_a_large_static_lps_model_left_to_auto_gets_a_warning_naming_the_key() -> None:
+    """linear_solver: auto picks the direct solver below 250 000 free dofs; for LPS and
+    correspondence (coupling two horizons) that filled past 20 GB at 101 136 points in
+    2-D, where the iterative solver took 61 s: a warning names the key and the fix."""
+    import warnings
+
+    from peridynamics.build.plausibility import ImplausibleInput, warn_direct_solver
+    from peridynamics.deck import load_deck
+    from tests.helpers import EXAMPLES
+
+    path = EXAMPLES / "lps" / "plate_hole.yaml"
+    deck = load_deck(path, ["solver.type=static", "solver.max_iterations=50"])
+    with pytest.warns(ImplausibleInput, match="solver.linear_solver: auto .* iterative"):
+        warn_direct_solver(deck, 25_284)
+    quiet = [
+        (deck, 19_000),  # small enough
+        (load_deck(path, ["solver.type=static", "solver.max_iterations=50",
+                          "solver.linear_solver=iterative"]), 25_284),  # chosen
+        (load_deck(path), 25_284),  # adr: no factorisation
+    ]  # fmt: skip
+    for d, n in quiet:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", ImplausibleInput)
+            warn_direct_solver(d, n)

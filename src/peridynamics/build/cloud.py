@@ -22,6 +22,7 @@ from peridynamics.build.bodies import build_body_points, has_bodies
 from peridynamics.build.errors import SetupError
 from peridynamics.build.geometry import geometry_cloud
 from peridynamics.build.plausibility import (
+    warn_direct_solver,
     warn_horizon,
     warn_idle_precracks,
     warn_overlapping_bodies,
@@ -104,6 +105,7 @@ def build_cloud(deck: dk.Deck) -> PointCloud:
 
     resolve_node_sets(deck, sets, select, cloud.bounds)
     warn_horizon(deck, *cloud.bounds, cloud.n_points, cloud.spacing)
+    warn_direct_solver(deck, cloud.n_points)
     return cloud.with_node_sets(**sets)
 
 

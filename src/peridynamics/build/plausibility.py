@@ -7,7 +7,9 @@ command line as ``warning: ...``):
 - a horizon larger than half the body's largest extent (every point bonded to nearly
   every other);
 - a separate body (``bodies[k].geometry``) whose points lie on another body's points;
-- a pre-crack that cuts no bond (it lies outside the body).
+- a pre-crack that cuts no bond (it lies outside the body);
+- a large static LPS or correspondence model left to ``linear_solver: auto``, which
+  factorises it with the direct solver.
 
 The time step, the damping and the material constants are judged by the solver's set-up
 (:mod:`peridynamics.solvers.explicit`); node sets that select nothing are errors.
@@ -31,6 +33,13 @@ if TYPE_CHECKING:
 HORIZON_FRACTION = 0.5
 #: points of two bodies nearer than this fraction of the spacing overlap
 OVERLAP_FRACTION = 0.5
+#: points above which a static LPS or correspondence model under ``linear_solver: auto``
+#: (direct below 250 000 free dofs) is reported, by dimension: measured on this
+#: project's 2-core machine (docs/stress.md, "Plate with a hole"), 2-D LPS at 25 284
+#: points direct 63 s and 5.6 GB against iterative 15 s and 1.28 GB, at 101 136 points
+#: direct past 20 GB (stopped) against 61 s; 3-D LPS at 4 000 points 34 s and 2.95 GB
+#: against 21 s and 1.82 GB
+DIRECT_SOLVER_POINTS = {2: 20_000, 3: 4_000}
 
 
 class ImplausibleInput(UserWarning):
@@ -112,3 +121,25 @@ def warn_idle_precracks(
             ImplausibleInput,
             stacklevel=2,
         )
+
+
+def warn_direct_solver(deck: dk.Deck, n_points: int) -> None:
+    """Warn when a static LPS or correspondence model of more than
+    :data:`DIRECT_SOLVER_POINTS` points is left to ``solver.linear_solver: auto``: these
+    families couple points two horizons apart, so the direct factorisation that ``auto``
+    picks (below 250 000 free dofs) fills far faster than for PMB or micropolar models."""
+    s = deck.solver
+    limit = DIRECT_SOLVER_POINTS.get(deck.dim)
+    if s.type != "static" or getattr(s, "linear_solver", "auto") != "auto" or limit is None:
+        return
+    if deck.bodies or deck.material.model not in ("lps", "correspondence") or n_points <= limit:
+        return
+    warnings.warn(
+        f"solver.linear_solver: auto factorises this {deck.dim}-D {deck.material.model} "
+        f"model of {n_points} points with the direct solver, whose fill grows fast for "
+        "families that couple points two horizons apart (measured, 2-D LPS: 25 284 points "
+        "5.6 GB and 4x the time of the iterative solver, 101 136 points past 20 GB); set "
+        "solver.linear_solver: iterative",
+        ImplausibleInput,
+        stacklevel=2,
+    )
