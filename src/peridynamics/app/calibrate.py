@@ -85,8 +85,9 @@ def calibrate(
     sets
         Extra ``--set`` overrides of every run (after ``spec.set``).
     ranks
-        Under ``mpiexec -n N`` (on rank 0; the others :func:`~peridynamics.app.
-        calibrate_mpi.serve`): every batch of runs is divided among the ranks.
+        Under ``mpiexec -n N`` (on rank 0; the others
+        :func:`~peridynamics.app.calibrate_mpi.serve`): every batch of runs is divided
+        among the ranks.
 
     Raises
     ------

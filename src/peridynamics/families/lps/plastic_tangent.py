@@ -4,7 +4,7 @@ radial return from the committed history, for the static solver's Newton iterati
 
 Per point i and intact bond k of its family (wv_k, L_k, e_k, the committed ep_k), with
 ``d_k = e_k - theta_i L_k / 3 - ep_k`` (the trial elastic deviatoric extension) and the
-factor c_i of the return, the force state of the point is
+factor c_i of the return, the force state of the point is::
 
     tau_k = wv_k (kappa_i theta_i L_k + a_i c_i d_k),  kappa_i = cd_i + a_i / 3
 
@@ -12,7 +12,7 @@ factor c_i of the return, the force state of the point is
 derivative with respect to the extensions of the family, with ``theta_i = ts_i sum wv L
 e``, ``S_i = sum_k wv_k d_k L_k`` and, on a yielding point (c_i < 1), ``c_i = 1 - beta
 (1 - Y_i / sbar_i)`` (``beta = 3 mu / (3 mu + H)``, ``Y_i = sigma_y + H q_n``,
-``sbar_i = sqrt(6 mu Wd_i)``), is
+``sbar_i = sqrt(6 mu Wd_i)``), is::
 
     d tau / d e = diag(a_i c_i wv) + ts_i (kappa_i - a_i c_i / 3) (wv L)(wv L)^T
                   - gamma_i (wv d)(wv d - ts_i S_i / 3 wv L)^T,
@@ -22,7 +22,7 @@ With ``de_k / du = n_k^T (du_j - du_i)`` the tangent K = -d(V f)/du is the elast
 form of :func:`peridynamics.families.lps.tangent.lps_tangent` with the bond stiffness
 ``wv a_i c_i + wvf a_j c_j``, the bond force T_k of the plastic force pass, and the
 point-wise rank-one products of ``Bw_i = d(sum wv L e)/du`` and ``D_i = d(sum wv d e)/du``
-(rows per point, columns per dof; ``d`` held fixed in D):
+(rows per point, columns per dof; ``d`` held fixed in D)::
 
     K_pt = Bw^T diag(V ts (kappa - a c / 3)) Bw - D^T diag(V gamma) (D - diag(ts S / 3) Bw).
 
