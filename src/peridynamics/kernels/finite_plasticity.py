@@ -24,10 +24,8 @@ import numpy as np
 from numba import njit, prange
 
 from peridynamics.kernels.plasticity import (
-    LAW_J2,
-    dp_return,
     embedded,
-    j2_return,
+    law_return,
     polar,
     rotated_piola,
     skip_point,
@@ -118,10 +116,7 @@ def hencky_update(fgrad, active, law, params, hist_in, hist_out, piola, stress):
             vals[c] = math.log(vals[c])
         e = np.empty((3, 3))
         _spectral(vecs, vals, e)  # ln U
-        if law == LAW_J2:
-            j2_return(e, hist_in[i], hist_out[i], params, stress[i])
-        else:
-            dp_return(e, hist_in[i], hist_out[i], params, stress[i])
+        law_return(law, e, hist_in[i], hist_out[i], params, stress[i])
         for c in range(3):
             vals[c] = math.exp(-vals[c])
         _spectral(vecs, vals, w[0])  # U^-1

@@ -166,6 +166,17 @@ def dp_return(e, hist_in, hist_out, p, s):
 
 
 @njit(cache=True)
+def law_return(law, e, hist_in, hist_out, p, s):
+    """The return map of the built-in law ``law`` (:data:`LAW_J2` or
+    :data:`LAW_DRUCKER_PRAGER`) at the strain ``e`` (3, 3): :func:`j2_return` or
+    :func:`dp_return` (arguments as theirs)."""
+    if law == LAW_J2:
+        j2_return(e, hist_in, hist_out, p, s)
+    else:
+        dp_return(e, hist_in, hist_out, p, s)
+
+
+@njit(cache=True)
 def skip_point(hist_in, hist_out, piola, stress):
     """A degenerate point of the per-point laws: its history kept, P (d, d) and the stress
     (3, 3) zero."""
@@ -238,10 +249,7 @@ def corotated_update(fgrad, active, law, params, hist_in, hist_out, piola, stres
         jac = polar(f, r, u, w)
         for a in range(3):
             u[a, a] -= 1.0
-        if law == LAW_J2:
-            j2_return(u, hist_in[i], hist_out[i], params, stress[i])
-        else:
-            dp_return(u, hist_in[i], hist_out[i], params, stress[i])
+        law_return(law, u, hist_in[i], hist_out[i], params, stress[i])
         for a in range(3):
             u[a, a] += 1.0
         _inverse3(u, w[0])  # U^-1
