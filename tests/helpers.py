@@ -14,6 +14,7 @@ import warnings
 from collections.abc import Iterator, Mapping
 from pathlib import Path
 from types import ModuleType
+from typing import Any
 
 import peridynamics
 
@@ -34,6 +35,28 @@ BRANCHING = ("discretisation.spacing=5e-4", "discretisation.horizon=2e-3", "outp
 RESEARCH = ("discretisation.spacing=1e-3", "discretisation.horizon_factor=3")
 #: the environment variable of the crash injection (the process ends by ``os._exit``)
 CRASH = "PERIDYNAMICS_CRASH_AT_STEP"
+
+#: a static 1-D bar of 11 points whose tip displacement a calibration fits (the
+#: calibration tests, file and flag forms)
+TINY_STATIC_BAR = """\
+name: tiny_static_bar
+geometry: {type: bar, length: 0.05, area: 1.0e-4}
+discretisation: {spacing: 0.005, horizon_factor: 3.0}
+material: {youngs_modulus: 20.0e9, density: 2620.0}
+node_sets:
+  left: {point: [0.0]}
+  right: {point: [0.05]}
+boundary_conditions:
+  - {type: fixed, set: left}
+  - {type: traction, set: right, value: [8.0e6]}
+solver: {type: static, load_steps: 2}
+output:
+  history_every: 1
+  plot: none
+  fields: []
+  probes:
+    - {name: tip, quantity: displacement, set: right, component: x}
+"""
 
 
 def load_script(path: Path, name: str) -> ModuleType:
@@ -226,3 +249,17 @@ def sigint_at(sim: object, step: int) -> None:
         return inner(state)
 
     solver.step = step_and_interrupt
+
+
+def count_commits(force_model: Any) -> list[int]:
+    """Wrap ``force_model.commit_history`` so that every call appends ``int(fresh)`` to
+    the returned list (and still commits): how often, and how, a solver committed."""
+    calls: list[int] = []
+    original = force_model.commit_history
+
+    def counting(state: Any, fresh: bool = False) -> None:
+        calls.append(int(fresh))
+        original(state, fresh)
+
+    force_model.commit_history = counting
+    return calls

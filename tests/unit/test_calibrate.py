@@ -18,6 +18,7 @@ from peridynamics.app.calibrate_fit import Objective, optimise, uncertainty
 from peridynamics.app.calibrate_runs import Runner, run_folder
 from peridynamics.app.calibrate_spec import CalibrationError, Options, Parameter, parse_spec
 from peridynamics.cli import main
+from tests.helpers import TINY_STATIC_BAR
 
 BASE = {
     "parameters": [{"key": "material.youngs_modulus", "bounds": [1.0e9, 1.0e11], "scale": "log"}],
@@ -148,25 +149,7 @@ def test_global_search_restarts_and_budget():
     assert "max_runs (3)" in info["stopped"] and len(capped.memo) <= 3
 
 
-DECK = """\
-name: tiny_static_bar
-geometry: {type: bar, length: 0.05, area: 1.0e-4}
-discretisation: {spacing: 0.005, horizon_factor: 3.0}
-material: {youngs_modulus: 20.0e9, density: 2620.0}
-node_sets:
-  left: {point: [0.0]}
-  right: {point: [0.05]}
-boundary_conditions:
-  - {type: fixed, set: left}
-  - {type: traction, set: right, value: [8.0e6]}
-solver: {type: static, load_steps: 2}
-output:
-  history_every: 1
-  plot: none
-  fields: []
-  probes:
-    - {name: tip, quantity: displacement, set: right, component: x}
-"""
+DECK = TINY_STATIC_BAR
 
 
 def test_a_run_is_made_once_and_read_back(tmp_path):

@@ -17,26 +17,9 @@ import pytest
 from peridynamics.app.calibrate_flags import spec_from_flags, unit_factor
 from peridynamics.app.calibrate_spec import CalibrationError
 from peridynamics.cli import main
+from tests.helpers import TINY_STATIC_BAR
 
-DECK = """\
-name: tiny_static_bar
-geometry: {type: bar, length: 0.05, area: 1.0e-4}
-discretisation: {spacing: 0.005, horizon_factor: 3.0}
-material: {youngs_modulus: 20.0e9, density: 2620.0}
-node_sets:
-  left: {point: [0.0]}
-  right: {point: [0.05]}
-boundary_conditions:
-  - {type: fixed, set: left}
-  - {type: traction, set: right, value: [8.0e6]}
-solver: {type: static, load_steps: 2}
-output:
-  history_every: 1
-  plot: none
-  fields: []
-  probes:
-    - {name: tip, quantity: displacement, set: right, component: x}
-"""
+DECK = TINY_STATIC_BAR
 
 
 @pytest.fixture

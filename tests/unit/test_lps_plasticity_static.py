@@ -20,6 +20,7 @@ from peridynamics.deck import parse_deck
 from peridynamics.families.lps import plastic as pl
 from peridynamics.families.lps.tangent import lps_tangent
 from peridynamics.families.tangent import finite_difference_tangent
+from tests.helpers import count_commits
 
 E, SY, H = 200e9, 200e6, 20e9
 LENGTH = 0.008
@@ -188,14 +189,7 @@ def test_only_the_plastic_lps_asks_for_the_line_search() -> None:
 def test_history_is_committed_on_converged_levels_only() -> None:
     sim = _sim(3e-3, [0.0, 1.0], 2)
     fm = sim.model.force_model
-    calls: list[int] = []
-    original = fm.commit_history
-
-    def counting(state, fresh=False):
-        calls.append(int(fresh))
-        original(state, fresh)
-
-    fm.commit_history = counting  # type: ignore[method-assign]
+    calls = count_commits(fm)
     s = sim.solver.init()
     assert sim.solver.step(s).converged  # 1.5e-3, past yield
     assert calls == [1]  # once, after Newton, from the converged u

@@ -12,6 +12,7 @@ import pytest
 from peridynamics.app.run import Simulation
 from peridynamics.deck import parse_deck
 from peridynamics.families.correspondence.plastic_force import HISTORY, TRIAL
+from tests.helpers import count_commits
 
 E, NU = 200e9, 0.3
 LENGTH = 0.02
@@ -65,14 +66,7 @@ J2 = {"type": "j2", "yield_stress": 200e6, "hardening_modulus": 20e9}
 def test_history_is_committed_on_converged_levels_only() -> None:
     sim = _sim(J2, 3e-3, [0.0, 1.0], 2, small=True, max_iterations=30)
     fm = sim.model.force_model
-    calls: list[int] = []
-    original = fm.commit_history
-
-    def counting(state, fresh=False):
-        calls.append(int(fresh))
-        original(state, fresh)
-
-    fm.commit_history = counting  # type: ignore[method-assign]
+    calls = count_commits(fm)
     s = sim.solver.init()
     res = sim.solver.step(s)  # strain 1.5e-3, past yield (1e-3)
     assert res.converged and calls == [1]  # once, after Newton, from the converged u
