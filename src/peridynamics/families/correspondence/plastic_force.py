@@ -37,6 +37,7 @@ from peridynamics.families.correspondence.force import (
     CorrespondenceConstants,
     CorrespondenceForceModel,
 )
+from peridynamics.families.correspondence.plasticity import check_strain
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import correspondence as corr_kernels
 from peridynamics.kernels import finite_plasticity as finite_kernels
@@ -87,10 +88,7 @@ class PlasticCorrespondenceModel(CorrespondenceForceModel):
         self._law_id: int | None = getattr(plasticity, "law_id", None)
         #: the strain of the return map: "small" (U - I) or "logarithmic" (ln U)
         self.strain: str = getattr(plasticity, "strain", "small")
-        if self.strain not in ("small", "logarithmic"):
-            raise ValueError(
-                f"material.plasticity.strain must be 'small' or 'logarithmic', got {self.strain!r}"
-            )
+        check_strain(self.strain)  # a user law's too
         self._params = (
             plasticity.params(self.law.lame, self.law.shear) if self._law_id is not None else None
         )

@@ -58,7 +58,9 @@ class PlasticLaw(Protocol):
 STRAINS = ("small", "logarithmic")
 
 
-def _strain(value: str) -> None:
+def check_strain(value: str) -> None:
+    """A ValueError naming ``material.plasticity.strain`` unless ``value`` is in
+    :data:`STRAINS`."""
     if value not in STRAINS:
         raise ValueError(
             f"material.plasticity.strain must be 'small' (corotated U - I) or 'logarithmic' "
@@ -108,7 +110,7 @@ class J2Plasticity:
         _positive("yield_stress", self.yield_stress)
         _positive("hardening_modulus", self.hardening_modulus, zero=True)
         _positive("kinematic_modulus", self.kinematic_modulus, zero=True)
-        _strain(self.strain)
+        check_strain(self.strain)
 
     def params(self, lame: float, shear: float) -> F64:
         """The kernel's parameters [lambda, mu, sigma_y, H_iso, H_kin]."""
@@ -160,7 +162,7 @@ class DruckerPrager:
 
     def __post_init__(self) -> None:
         _positive("cohesion", self.cohesion)
-        _strain(self.strain)
+        check_strain(self.strain)
         for key in ("friction_angle", "dilation_angle"):
             _positive(key, getattr(self, key), zero=True)
         if self.friction_angle >= 90.0:
