@@ -310,9 +310,9 @@ class StaticSolver(StaticDofs, StaticBreaking):
                 events.append("cut_back")
                 target = lam0 + 0.5 * (target - lam0)
                 self._scatter(saved, s)
+        except lin.UnconstrainedModel:  # a set-up error, not a failed level
+            raise
         except lin.SingularSystem as exc:
-            if isinstance(exc, lin.UnconstrainedModel):
-                raise
             self._failed = str(exc)
             self._scatter(saved, s)
             self._set_loads(s, lam0)
