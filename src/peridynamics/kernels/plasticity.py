@@ -167,8 +167,8 @@ def dp_return(e, hist_in, hist_out, p, s):
 
 @njit(cache=True)
 def law_return(law, e, hist_in, hist_out, p, s):
-    """The return map of the built-in law ``law`` (:data:`LAW_J2` or
-    :data:`LAW_DRUCKER_PRAGER`) at the strain ``e`` (3, 3): :func:`j2_return` or
+    """The return map of the built-in law ``law`` (``LAW_J2`` or
+    ``LAW_DRUCKER_PRAGER``) at the strain ``e`` (3, 3): :func:`j2_return` or
     :func:`dp_return` (arguments as theirs)."""
     if law == LAW_J2:
         j2_return(e, hist_in, hist_out, p, s)
