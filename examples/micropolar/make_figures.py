@@ -130,16 +130,10 @@ def _pd_curve(summary: dict[str, Any], load: str, disp: list[str]) -> tuple[Any,
     return p, d, t
 
 
-def _peaks(t: Any) -> Any:
-    """Indices of the solves followed by a breaking solve at the same load level."""
-    same = np.flatnonzero(np.diff(t) == 0.0)
-    first = same[np.r_[True, np.diff(same) > 1]] if len(same) else same
-    return first
-
-
 def dcb(out: Path, summary: dict[str, Any]) -> dict[str, Any]:
     """Compliance against corrected beam theory, events against LEFM."""
     from peridynamics.analysis.dcb import dcb_compliance, dcb_lefm_curve
+    from peridynamics.analysis.dcb_events import dcb_event_ratios
 
     r = summary["results"]
     dx = r["spacing_m"]
@@ -149,11 +143,10 @@ def dcb(out: Path, summary: dict[str, Any]) -> dict[str, Any]:
     stiff = p[1] / d[1]
     cbt = 1.0 / dcb_compliance(a0, h, b, E, nu)
     crack = r["crack_paths"]["crack"]
-    length = np.asarray(crack["length_history_m"])
-    peaks = _peaks(t)
-    a = a0 + length[peaks]
-    straight = (0.2 - (a + 0.5 * dx)) > 3 * h
-    ratio = p[peaks] / dcb_lefm_curve(d[peaks], h, b, E, nu, gc)
+    events = dcb_event_ratios(
+        p, d, t, crack["length_history_m"], a0, 0.2, h, b, E, nu, gc, dx
+    )  # the peaks of the saw-tooth against LEFM (also the verify case micropolar_dcb)
+    peaks, ratio, straight = events.index, events.ratio, events.straight
     verts = np.asarray(crack["vertices_m"])
     res = {
         "stiffness_pd_N_per_m": float(stiff),
@@ -196,13 +189,12 @@ def l_panel(out: Path, summary: dict[str, Any]) -> dict[str, Any]:
 
     def chord_angle(reach: float) -> float | None:
         """Angle (deg, upward from the horizontal, the crack heading left) of the chord
-        from the corner to the first path vertex at least ``reach`` from it."""
-        dist = np.linalg.norm(verts - corner, axis=1) if len(verts) else np.zeros(0)
-        far = np.flatnonzero(dist >= reach)
-        if not len(far):
-            return None
-        dx, dy = verts[far[0]] - corner
-        return float(np.degrees(np.arctan2(dy, -dx)))
+        from the corner to the first path vertex at least ``reach`` from it (also the
+        verify case micropolar_l_panel)."""
+        from peridynamics.analysis.crack_chord import chord_angle_from
+
+        angle = chord_angle_from(verts, corner, reach, heading=(-1.0, 0.0))
+        return None if np.isnan(angle) else angle
 
     first = r.get("first_break_m")
     res = {

@@ -5,7 +5,9 @@ peridynamics, for the verify cases ``pmb_box_moduli`` and ``lps_box_nu_*``
 The measured side reads the run's ``final_state.npz`` (reference positions ``x`` and
 displacements ``u``) and fits a linear field to the points farther than one horizon
 from every face, as ``benchmarks/lattice_moduli.py`` does. The reference side of the
-bond-based box is a closed form of the discrete model: on a cubic grid a bond-based
+bond-based box is the isotropic E0 and nu = 1/4 of Silling (2000) with
+``discretisation.isotropic_family`` (the default), and otherwise a closed form of the
+discrete model: on a cubic grid a bond-based
 family has the elastic constants of its fourth moment ``M = sum_k w_k n_k^(x4)``
 (``w_k`` the energy weight ``c(|xi|) beta V |xi|`` of bond k, n its direction), with
 the Cauchy relation C12 = C44; the axis surface correction scales the interior so that
@@ -82,8 +84,13 @@ def _fourth_moment_ratio(m: float, partial_volume: str, profile: str) -> float:
 
 
 def lattice_moduli(inputs: Summary) -> tuple[float, float]:
-    """(E / E0, nu) of the corrected bond-based interior of the deck's cubic grid."""
+    """(E / E0, nu) of the corrected bond-based interior of the deck's cubic grid: the
+    isotropic (1, 1/4) of Silling (2000), eq. 64, with ``discretisation.isotropic_family``
+    (the default: the family's fourth moment is made isotropic,
+    :mod:`peridynamics.families.pmb.isotropy`), the cubic lattice's without it."""
     disc, mat = inputs["discretisation"], inputs["material"]
+    if disc.get("isotropic_family", True):
+        return 1.0, 0.25
     hf = disc.get("horizon_factor")
     m = float(hf) if hf is not None else float(disc["horizon"]) / float(disc["spacing"])
     r = _fourth_moment_ratio(

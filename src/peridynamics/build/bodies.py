@@ -122,7 +122,7 @@ def build_bodies_model(
         if m_spec.model == "micropolar":
             raise SetupError(f"{key}.model", "micropolar bodies cannot be combined with others")
         try:
-            material = build_material(m_spec)
+            material = build_material(m_spec, deck.discretisation)
         except SetupError as exc:
             raise SetupError(key, str(exc).split(": ", 1)[-1]) from None
         name = "main" if spec is None else spec.name
@@ -169,7 +169,7 @@ def build_deck_model(
     the same in one process and on a rank of a decomposed run."""
     if not has_bodies(deck):
         return build_model(deck, cloud, bonds, body_forces)
-    contact = build_contact(deck, cloud, bonds, build_material(deck.material))
+    contact = build_contact(deck, cloud, bonds, build_material(deck.material, deck.discretisation))
     return build_bodies_model(deck, cloud, bonds, body_layout(deck, cloud), body_forces, contact)
 
 

@@ -29,11 +29,14 @@ from peridynamics.families.viscosity import BondViscosity
 from peridynamics.geometry import PointCloud
 
 
-def _bond_based(m: Any) -> Any:
-    return MATERIALS[m.model](m.youngs_modulus, m.density, m.micromodulus_profile, m.micromodulus)
+def _bond_based(m: Any, disc: dk.Discretisation | None) -> Any:
+    iso = True if disc is None else bool(disc.isotropic_family)
+    return MATERIALS[m.model](
+        m.youngs_modulus, m.density, m.micromodulus_profile, m.micromodulus, iso
+    )
 
 
-def _lps(m: Any) -> Any:
+def _lps(m: Any, disc: dk.Discretisation | None) -> Any:
     ve = getattr(m, "viscoelastic", None)
     pl = getattr(m, "plasticity", None)
     return MATERIALS["lps"](
@@ -43,7 +46,7 @@ def _lps(m: Any) -> Any:
     )  # fmt: skip
 
 
-def _correspondence(m: Any) -> Any:
+def _correspondence(m: Any, disc: dk.Discretisation | None) -> Any:
     return MATERIALS["correspondence"](
         m.youngs_modulus,
         m.poisson_ratio,
@@ -55,7 +58,7 @@ def _correspondence(m: Any) -> Any:
     )
 
 
-def _micropolar(m: Any) -> Any:
+def _micropolar(m: Any, disc: dk.Discretisation | None) -> Any:
     return MATERIALS["micropolar"](
         m.youngs_modulus,
         m.poisson_ratio,
@@ -65,8 +68,8 @@ def _micropolar(m: Any) -> Any:
     )
 
 
-#: ``material.model`` -> builder(section) -> material
-MATERIAL_BUILDERS: dict[str, Callable[[Any], Any]] = {
+#: ``material.model`` -> builder(section, the deck's discretisation or None) -> material
+MATERIAL_BUILDERS: dict[str, Callable[[Any, Any], Any]] = {
     "pmb": _bond_based,
     "bond_based": _bond_based,
     "lps": _lps,
@@ -75,11 +78,13 @@ MATERIAL_BUILDERS: dict[str, Callable[[Any], Any]] = {
 }
 
 
-def build_material(m: Any) -> Any:
+def build_material(m: Any, disc: dk.Discretisation | None = None) -> Any:
     """The deck's material section -> a material of its model family (registry
-    :data:`MATERIAL_BUILDERS`, keyed by ``material.model``)."""
+    :data:`MATERIAL_BUILDERS`, keyed by ``material.model``); ``disc``, the deck's
+    discretisation section, gives the keys of the family that live there
+    (``isotropic_family``; ``None``: their defaults)."""
     try:
-        return MATERIAL_BUILDERS[m.model](m)
+        return MATERIAL_BUILDERS[m.model](m, disc)
     except ValueError as exc:
         raise SetupError("material", str(exc)) from None
 
@@ -185,7 +190,7 @@ def build_damage(dmg: dk.Damage, m: Any, material: Any, cloud: PointCloud, bonds
 
 def build_model(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, body: list) -> Evaluator:
     """Material + damage + loads -> Evaluator."""
-    material = build_material(deck.material)
+    material = build_material(deck.material, deck.discretisation)
     m = deck.material
     dmg = deck.damage
     damage = build_damage(dmg, m, material, cloud, bonds)

@@ -20,6 +20,9 @@ class Discretisation(Strict):
     horizon_factor: Annotated[float, Field(ge=1.0, allow_inf_nan=False), Num] | None = None
     partial_volume: Literal["truncated", "extended", "none"] = "truncated"
     surface_correction: bool = True  # the nominal E in the interior and at surfaces
+    #: bond-based models on a regular 3-D grid: bond factors quartic in the direction
+    #: make the family isotropic (nu = 1/4, E0), not the cubic lattice (nu 0.269)
+    isotropic_family: bool = True
     jitter: Annotated[float, Field(allow_inf_nan=False), Num] = 0.0
     seed: Annotated[int, Field(ge=0), Num] = 0
 

@@ -18,6 +18,7 @@ from peridynamics.bonds.surface import energy_correction_factors, moment_correct
 from peridynamics.communicator import active_comm
 from peridynamics.families.base import DamageLaw, ForceModel, FusedStep, LargestStretchPass
 from peridynamics.families.calibration import calibrate_influence
+from peridynamics.families.pmb.isotropy import lattice_isotropy_factors, on_grid
 from peridynamics.families.pmb.tangent import pmb_tangent
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import bond_based
@@ -33,6 +34,20 @@ _CALIBRATION_STRAIN = 1e-6
 class PMBConstants(Protocol):
     """What the force model reads of its material
     (:class:`~peridynamics.families.pmb.material.BondBasedMaterial`)."""
+
+    @property
+    def isotropic_family(self) -> bool:
+        """Regular 3-D grids: bond factors of the direction make the family isotropic."""
+        ...
+
+    def micromodulus(
+        self,
+        length: NDArray[np.float64],
+        dim: int,
+        horizon: float,
+        cross_section: float,
+        plane: str | None,
+    ) -> NDArray[np.float64]: ...
 
     def bond_stiffness(
         self, cloud: PointCloud, bonds: Bonds, corrected: bool = True
@@ -52,7 +67,9 @@ class PMBForceModel(LargestStretchPass, ForceModel):
     bonds : Bonds
     material : BondBasedMaterial (:class:`PMBConstants`)
     surface_correction : bool
-        Energy-method surface correction (Madenci & Oterkus 2014, section 4.2).
+        Energy-method surface correction (Madenci & Oterkus 2014, section 4.2). On a
+        regular 3-D grid the bonds first get the isotropy factors of
+        :mod:`peridynamics.families.pmb.isotropy` when ``material.isotropic_family``.
 
     Attributes
     ----------
@@ -85,8 +102,23 @@ class PMBForceModel(LargestStretchPass, ForceModel):
     ) -> None:
         self.cloud = cloud
         self.material = material
+        # corrected: a regular 3-D grid's family has the cubic symmetry of the lattice,
+        # factors of the bond direction make it isotropic (families/pmb/isotropy.py)
+        iso = None
+        if (
+            surface_correction
+            and material.isotropic_family
+            and cloud.dim == 3
+            and not cloud.irregular
+            and on_grid(cloud.x, cloud.spacing)
+        ):
+            iso = lattice_isotropy_factors(
+                material, cloud.dim, bonds, cloud.cross_section, cloud.plane
+            )
         if surface_correction:
             raw = material.bond_stiffness(cloud, bonds, corrected=False)
+            if iso is not None:
+                raw = raw * iso
             w_inf = material.uniaxial_energy_density(
                 _CALIBRATION_STRAIN, cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
             )
@@ -100,7 +132,7 @@ class PMBForceModel(LargestStretchPass, ForceModel):
                 factors = energy_correction_factors(
                     cloud.x, bonds, raw, w_inf, _CALIBRATION_STRAIN, active_comm()
                 )
-            bonds = bonds.with_correction(factors)
+            bonds = bonds.with_correction(factors if iso is None else factors * iso)
         self.bonds = bonds
         self.stiffness = material.bond_stiffness(cloud, bonds)
         self._kernel = bond_based.FORCE_KERNELS[cloud.dim]

@@ -76,6 +76,13 @@ class BondBasedMaterial:
         one, e.g. the 18 k / (pi delta^4) printed in SED-PD (2021), eq. 8, for its
         plane-stress model (see docs/theory_rock.md). E then only enters the outputs that
         quote it.
+    isotropic_family : bool
+        On a regular 3-D grid, multiply every bond's micromodulus by a factor quartic in
+        its direction that makes the lattice family isotropic (interior nu = 1/4 and
+        E = E0 instead of the cubic lattice's 0.269 and 0.962 E0 at delta = 3.015 dx;
+        :mod:`peridynamics.families.pmb.isotropy`). Part of the surface correction: no
+        effect without it, in 1-D, 2-D or on irregular clouds. The deck key is
+        ``discretisation.isotropic_family``.
 
     Examples
     --------
@@ -88,6 +95,7 @@ class BondBasedMaterial:
     density: float
     profile: Profile = "constant"
     micromodulus_value: float | None = None
+    isotropic_family: bool = True
 
     def __post_init__(self) -> None:
         if not (self.youngs_modulus > 0 and math.isfinite(self.youngs_modulus)):
