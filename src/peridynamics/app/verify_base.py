@@ -1,7 +1,8 @@
 """The data of a verification case of ``peridynamics verify``
-(:mod:`peridynamics.app.verify_cases`): :class:`Check` (one measured quantity against
-its reference) and :class:`Case` (an example deck at a tier's size and its checks), and
-the readers of a run's ``summary.json`` mapping the case modules share.
+(:mod:`peridynamics.app.verify_cases`): :class:`~peridynamics.app.verify_base.Check`
+(one measured quantity against its reference) and
+:class:`~peridynamics.app.verify_base.Case` (an example deck at a tier's size and its
+checks), and the readers of a run's ``summary.json`` mapping the case modules share.
 
 A check reads the run's ``summary.json`` mapping (with ``"folder"``, the run's folder,
 for a check that reads the final fields) and returns the measured value; the reference

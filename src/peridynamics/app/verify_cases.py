@@ -4,11 +4,12 @@ from this code (closed-form solutions, published observations), each with its so
 and a tolerance.
 
 A case is data: the example, the overrides of each tier, and its checks
-(:class:`Check`, :class:`Case`: :mod:`peridynamics.app.verify_base`). A check reads the
-run's ``summary.json`` mapping (with ``"folder"``, the run's folder, for a check that
-reads the final fields) and returns the measured value; the reference is a number
-computed from the deck's own parameters (so an override that changes E also changes
-the reference), never a number an earlier run of this code printed.
+(:class:`~peridynamics.app.verify_base.Check`,
+:class:`~peridynamics.app.verify_base.Case`). A check reads the run's
+``summary.json`` mapping (with ``"folder"``, the run's folder, for a check that reads
+the final fields) and returns the measured value; the reference is a number computed
+from the deck's own parameters (so an override that changes E also changes the
+reference), never a number an earlier run of this code printed.
 
 The cases live by domain: waves (:mod:`~peridynamics.app.verify_waves`), static
 elasticity (:mod:`~peridynamics.app.verify_elastic`), dynamic fracture and fatigue
@@ -18,6 +19,7 @@ elasticity (:mod:`~peridynamics.app.verify_elastic`), dynamic fracture and fatig
 
 from __future__ import annotations
 
+from peridynamics.app import verify_base
 from peridynamics.app.verify_base import Case, Check, Summary
 from peridynamics.app.verify_elastic import (
     PLATE_TENSION_ADR,
@@ -36,13 +38,14 @@ from peridynamics.app.verify_micropolar import (
     MICROPOLAR_CANTILEVER,
     MICROPOLAR_DCB,
     MICROPOLAR_L_PANEL,
+    MICROPOLAR_L_PANEL_PAPER,
 )
 from peridynamics.app.verify_waves import BAR_NEAREST_EQUALS_FDM, BAR_WAVE_1D
 
 __all__ = ["CASES", "Case", "Check", "Summary", "select"]
 
 #: every case, in report order
-CASES: tuple[Case, ...] = (
+CASES: tuple[verify_base.Case, ...] = (
     BAR_WAVE_1D,
     BAR_NEAREST_EQUALS_FDM,
     PMB_BOX_MODULI,
@@ -58,6 +61,7 @@ CASES: tuple[Case, ...] = (
     MICROPOLAR_CANTILEVER,
     MICROPOLAR_DCB,
     MICROPOLAR_L_PANEL,
+    MICROPOLAR_L_PANEL_PAPER,
     BEND_WORK_OF_FRACTURE,
 )
 
