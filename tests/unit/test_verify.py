@@ -61,6 +61,12 @@ def test_verify_one_case_then_reuse_it(tmp_path, capsys):
     capsys.readouterr()
     assert main(["verify", "--only", "bar_wave_1d", "--out", str(out)]) == 0
     assert "(done before)" in capsys.readouterr().out
+    # the reused case keeps the time of the run that made it, and the report says so
+    again = json.loads((out / "verify.json").read_text())
+    assert again["cases"][0]["reused"] is True
+    assert again["cases"][0]["wall_s"] == case["wall_s"]
+    assert again["case_wall_s"] == case["wall_s"]
+    assert "(resumed; the cases' runs" in (out / "verify.md").read_text()
 
 
 def test_a_failed_check_fails_the_command(tmp_path, monkeypatch, capsys):

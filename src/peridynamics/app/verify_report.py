@@ -41,9 +41,14 @@ def intro(report: dict[str, Any]) -> str:
     m = report["machine"]
     n = len(report["cases"])
     failed = sum(not r["passed"] for r in report["cases"])
+    runs = report.get("case_wall_s")
+    reused = any(r.get("reused") for r in report["cases"])
+    took = f"{report['wall_s']:.0f} s"
+    if reused and runs is not None:  # a resumed campaign: say what its runs took
+        took += f" (resumed; the cases' runs {runs:.0f} s)"
     return (
         f"peridynamics {report['version']}, `verify --{report['tier']}`, {report['date']}, "
-        f"{m['cpu']} ({m['cores']} cores), {report['wall_s']:.0f} s: {n} cases, "
+        f"{m['cpu']} ({m['cores']} cores), {took}: {n} cases, "
         f"{n - failed} passed, {failed} failed"
     )
 
