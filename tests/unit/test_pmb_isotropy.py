@@ -147,3 +147,16 @@ def test_compiled_factors_equal_the_numpy_twin_in_any_range():
     monos = np.asarray(quartic_monomials(3), dtype=np.int64)
     part = kernel(np.ascontiguousarray(bonds.bond_xi[7:50]), lam, monos)
     assert part.tobytes() == got[7:50].tobytes()
+
+
+def test_a_family_that_cannot_be_isotropic_is_told_and_kept():
+    """delta = dx in 3-D: six axis bonds have no shear stiffness; the bonds keep the
+    grid's family and a warning names the key."""
+    cloud = box((0.005, 0.005, 0.005), 1e-3)
+    bonds = build_bonds(cloud, 1e-3)
+    with pytest.warns(UserWarning, match="discretisation.isotropic_family"):
+        on = Evaluator(cloud, bonds, BondBasedMaterial(E, RHO), surface_correction=True)
+    off = Evaluator(
+        cloud, bonds, BondBasedMaterial(E, RHO, isotropic_family=False), surface_correction=True
+    )
+    assert np.array_equal(on.stiffness, off.stiffness)

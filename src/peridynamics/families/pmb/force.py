@@ -7,6 +7,7 @@ one pass, :meth:`PMBForceModel.force_and_break`) are the same compiled code.
 
 from __future__ import annotations
 
+import warnings
 from typing import TYPE_CHECKING, Any, ClassVar, Protocol
 
 import numpy as np
@@ -112,9 +113,17 @@ class PMBForceModel(LargestStretchPass, ForceModel):
             and not cloud.irregular
             and on_grid(cloud.x, cloud.spacing)
         ):
-            iso = lattice_isotropy_factors(
-                material, cloud.dim, bonds, cloud.cross_section, cloud.plane
-            )
+            try:
+                iso = lattice_isotropy_factors(
+                    material, cloud.dim, bonds, cloud.cross_section, cloud.plane
+                )
+            except ValueError as exc:  # delta = dx: six axis bonds, no shear stiffness
+                warnings.warn(
+                    f"discretisation.isotropic_family: {exc}; its bonds keep the grid's "
+                    "(cubic) family",
+                    UserWarning,
+                    stacklevel=2,
+                )
         if surface_correction:
             raw = material.bond_stiffness(cloud, bonds, corrected=False)
             if iso is not None:
