@@ -14,7 +14,8 @@ import yaml
 from peridynamics import BondBasedMaterial, Evaluator, build_bonds
 from peridynamics.deck.changed_defaults import notices
 from peridynamics.deck.reader import parse_deck
-from peridynamics.families.pmb.isotropy import isotropy_coefficients, monomials
+from peridynamics.families.calibration import quartic_values
+from peridynamics.families.pmb.isotropy import isotropy_coefficients
 from peridynamics.geometry import box, rectangle
 
 E, RHO = 70e9, 2700.0
@@ -60,7 +61,7 @@ def test_lattice_family_gets_the_isotropic_fourth_moment(m, rule, profile):
     if (rule, m, profile) == ("truncated", 3.015, "constant"):  # the lattice: not 1/3
         assert xxyy / xxxx == pytest.approx(0.3680, abs=5e-4)
     lam = isotropy_coefficients(xi, w)
-    g = 1.0 + monomials(xi / np.linalg.norm(xi, axis=1)[:, None]) @ lam
+    g = 1.0 + quartic_values(xi / np.linalg.norm(xi, axis=1)[:, None]) @ lam
     xxxx_g, xxyy_g, xxyz_g = _moments(xi, w * g)
     assert xxyy_g / xxxx_g == pytest.approx(1.0 / 3.0, rel=1e-12)
     assert abs(xxyz_g) < 1e-12 * xxxx_g
@@ -142,7 +143,7 @@ def test_compiled_factors_equal_the_numpy_twin_in_any_range():
     xi, w = _family(3.015, "truncated", "constant")
     lam = isotropy_coefficients(xi, w)
     got = direction_factors(bonds, lam, 3)
-    twin = 1.0 + monomials(bonds.bond_xi / bonds.bond_length[:, None]) @ lam
+    twin = 1.0 + quartic_values(bonds.bond_xi / bonds.bond_length[:, None]) @ lam
     np.testing.assert_allclose(got, twin, rtol=1e-14)
     monos = np.asarray(quartic_monomials(3), dtype=np.int64)
     part = kernel(np.ascontiguousarray(bonds.bond_xi[7:50]), lam, monos)

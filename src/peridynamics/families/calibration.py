@@ -38,6 +38,20 @@ def quartic_monomials(dim: int) -> tuple[tuple[int, ...], ...]:
     return tuple(itertools.combinations_with_replacement(range(dim), 4))
 
 
+def quartic_values(
+    n_hat: NDArray[np.float64], monos: tuple[tuple[int, ...], ...] | None = None
+) -> NDArray[np.float64]:
+    """The quartic monomials ``monos`` (default :func:`quartic_monomials` of the
+    dimension) of unit vectors ``n_hat`` (n, dim), shape (n, P)."""
+    if monos is None:
+        monos = quartic_monomials(n_hat.shape[1])
+    phi = np.ones((len(n_hat), len(monos)))
+    for p, mono in enumerate(monos):
+        for c in mono:
+            phi[:, p] *= n_hat[:, c]
+    return phi
+
+
 def isotropic_fourth_moment(dim: int) -> NDArray[np.float64]:
     """The monomial moments of :func:`quartic_monomials` of the continuous ball,
     normalised by the second moment: ``<n_a n_b n_c n_e> = (d_ab d_ce + d_ac d_be +
@@ -139,11 +153,7 @@ def _calibrate_block(
     """:func:`calibrate_influence` on the families of consecutive points (offsets local
     to the block); returns the factors of the block's bonds and the points' residuals."""
     npt = len(offsets) - 1
-    n_hat = xi / length[:, None]
-    phi = np.ones((len(length), len(monos)))
-    for p, mono in enumerate(monos):
-        for c in mono:
-            phi[:, p] *= n_hat[:, c]
+    phi = quartic_values(xi / length[:, None], monos)
     w = w0 * length * length
     fam = _Families(phi, w, offsets, target)
     # 1. minimum-norm change, scaled into the bounds where it leaves them

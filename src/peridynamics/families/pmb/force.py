@@ -7,7 +7,6 @@ one pass, :meth:`PMBForceModel.force_and_break`) are the same compiled code.
 
 from __future__ import annotations
 
-import warnings
 from typing import TYPE_CHECKING, Any, ClassVar, Protocol
 
 import numpy as np
@@ -19,7 +18,7 @@ from peridynamics.bonds.surface import energy_correction_factors, moment_correct
 from peridynamics.communicator import active_comm
 from peridynamics.families.base import DamageLaw, ForceModel, FusedStep, LargestStretchPass
 from peridynamics.families.calibration import calibrate_influence
-from peridynamics.families.pmb.isotropy import lattice_isotropy_factors, on_grid
+from peridynamics.families.pmb.isotropy import grid_isotropy_factors
 from peridynamics.families.pmb.tangent import pmb_tangent
 from peridynamics.geometry.cloud import PointCloud
 from peridynamics.kernels import bond_based
@@ -103,28 +102,10 @@ class PMBForceModel(LargestStretchPass, ForceModel):
     ) -> None:
         self.cloud = cloud
         self.material = material
-        # corrected: a regular 3-D grid's family has the cubic symmetry of the lattice,
-        # factors of the bond direction make it isotropic (families/pmb/isotropy.py)
-        iso = None
-        if (
-            surface_correction
-            and material.isotropic_family
-            and cloud.dim == 3
-            and not cloud.irregular
-            and on_grid(cloud.x, cloud.spacing)
-        ):
-            try:
-                iso = lattice_isotropy_factors(
-                    material, cloud.dim, bonds, cloud.cross_section, cloud.plane
-                )
-            except ValueError as exc:  # delta = dx: six axis bonds, no shear stiffness
-                warnings.warn(
-                    f"discretisation.isotropic_family: {exc}; its bonds keep the grid's "
-                    "(cubic) family",
-                    UserWarning,
-                    stacklevel=2,
-                )
         if surface_correction:
+            # a regular 3-D grid's family has the cubic symmetry of the lattice: factors
+            # of the bond direction make it isotropic (families/pmb/isotropy.py)
+            iso = grid_isotropy_factors(material, cloud, bonds)
             raw = material.bond_stiffness(cloud, bonds, corrected=False)
             if iso is not None:
                 raw = raw * iso

@@ -13,7 +13,7 @@ three axial moduli, cannot change that.
 
 The fix here multiplies every bond's micromodulus by a factor quartic in the bond
 direction, ``g(n) = 1 + phi(n) . lam`` (``phi`` the quartic monomials of
-:func:`peridynamics.families.calibration.quartic_monomials`), with ``lam`` the
+:func:`peridynamics.families.calibration.quartic_values`), with ``lam`` the
 minimum-norm change (``min sum_k w_k (g_k - 1)^2``) that gives one complete family of
 the lattice the isotropic fourth moment at its own second moment ``m = sum_k w_k``
 (the interior solution of the moment method,
@@ -31,6 +31,7 @@ surfaces the axial calibration.
 from __future__ import annotations
 
 import math
+import warnings
 from typing import Any, cast
 
 import numpy as np
@@ -39,7 +40,11 @@ from numpy.typing import NDArray
 from peridynamics.bonds.bonds import Bonds, setup_chunk_bonds
 from peridynamics.bonds.partial_volume import PartialVolume, partial_volume_factor, search_radius
 from peridynamics.bonds.search import bond_chunks
-from peridynamics.families.calibration import isotropic_fourth_moment, quartic_monomials
+from peridynamics.families.calibration import (
+    isotropic_fourth_moment,
+    quartic_monomials,
+    quartic_values,
+)
 from peridynamics.kernels.isotropy import direction_factors as kernel_direction_factors
 
 #: the factor of every lattice bond must stay within these (a quartic this far from 1
@@ -72,16 +77,6 @@ def lattice_offsets(
     return np.ascontiguousarray(xi[keep])
 
 
-def monomials(n_hat: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The quartic monomials of unit vectors ``n_hat`` (n, dim), shape (n, P)."""
-    monos = quartic_monomials(n_hat.shape[1])
-    phi = np.ones((len(n_hat), len(monos)))
-    for p, mono in enumerate(monos):
-        for c in mono:
-            phi[:, p] *= n_hat[:, c]
-    return phi
-
-
 def isotropy_coefficients(
     xi: NDArray[np.float64], weight: NDArray[np.float64]
 ) -> NDArray[np.float64]:
@@ -91,7 +86,7 @@ def isotropy_coefficients(
     weighted change. Raises ``ValueError`` when the family cannot get it within
     :data:`ISOTROPY_BOUNDS`."""
     length = np.sqrt(np.einsum("ij,ij->i", xi, xi))
-    phi = monomials(xi / length[:, None])
+    phi = quartic_values(xi / length[:, None])
     target = isotropic_fourth_moment(xi.shape[1])
     m = float(weight.sum())
     a = phi.T @ (weight[:, None] * phi)
@@ -135,3 +130,28 @@ def lattice_isotropy_factors(
     beta = partial_volume_factor(length, bonds.horizon, bonds.spacing, rule)
     lam = isotropy_coefficients(xi, c * beta * length)
     return direction_factors(bonds, lam, dim)
+
+
+def grid_isotropy_factors(material: Any, cloud: Any, bonds: Bonds) -> NDArray[np.float64] | None:
+    """:func:`lattice_isotropy_factors` of a 3-D ``cloud`` on an axis-aligned grid of its
+    spacing when ``material.isotropic_family``, else ``None`` (1-D, 2-D, irregular clouds,
+    the key off). A family that cannot be made isotropic (delta = dx in 3-D: six axis
+    bonds, no shear stiffness) keeps the grid's with a warning naming the key."""
+    if not (
+        material.isotropic_family
+        and cloud.dim == 3
+        and not cloud.irregular
+        and on_grid(cloud.x, cloud.spacing)
+    ):
+        return None
+    try:
+        return lattice_isotropy_factors(
+            material, cloud.dim, bonds, cloud.cross_section, cloud.plane
+        )
+    except ValueError as exc:
+        warnings.warn(
+            f"discretisation.isotropic_family: {exc}; its bonds keep the grid's (cubic) family",
+            UserWarning,
+            stacklevel=3,
+        )
+        return None
