@@ -45,16 +45,19 @@ def _load(case: Case, tier: str, extra: tuple[str, ...] = ()) -> Any:
     return load_deck(decks[case.deck], [*(case.overrides(tier) or ()), *extra])
 
 
-def _run_deck(deck: Any, folder: Path, fingerprint: str) -> tuple[dict[str, Any], bool]:
+def _run_deck(
+    deck: Any, folder: Path, fingerprint: str
+) -> tuple[dict[str, Any], dict[str, Any] | None]:
     """The summary of ``deck`` run into ``folder`` (or of a finished run there with the
-    same fingerprint) and whether it was reused."""
-    summary = _finished(folder, fingerprint)
-    if summary is not None:
-        return summary[0], True
+    same fingerprint) and, when it was reused, the case record of the run that made it
+    (``None``: run now)."""
+    finished = _finished(folder, fingerprint)
+    if finished is not None:
+        return finished
     from peridynamics.app.run import Simulation
 
     folder.mkdir(parents=True, exist_ok=True)
-    return Simulation.from_deck(deck).run(folder, quiet=True, progress=False), False
+    return Simulation.from_deck(deck).run(folder, quiet=True, progress=False), None
 
 
 def run_one(case: Case, tier: str, out: Path) -> dict[str, Any]:
@@ -64,10 +67,12 @@ def run_one(case: Case, tier: str, out: Path) -> dict[str, Any]:
     record: dict[str, Any] = {"case": case.name, "title": case.title, "deck": case.deck,
                               "overrides": list(case.overrides(tier) or ())}  # fmt: skip
     t0 = time.perf_counter()
+    earlier: dict[str, Any] | None = None  # the record of the run a reused case comes from
     try:
         deck = _load(case, tier)
         fingerprint = _fingerprint(case, tier, deck.model_dump(mode="json", by_alias=True))
-        summary, record["reused"] = _run_deck(deck, folder, fingerprint)
+        summary, earlier = _run_deck(deck, folder, fingerprint)
+        record["reused"] = earlier is not None
         summary = {**summary, "folder": str(folder)}  # checks that read the final fields
         if case.companion is not None:  # the same problem by another scheme
             other = _load(case, tier, case.companion)
@@ -89,10 +94,9 @@ def run_one(case: Case, tier: str, out: Path) -> dict[str, Any]:
         c["passed"] for c in record["checks"]
     )
     record["wall_s"] = time.perf_counter() - t0
-    if record.get("reused"):  # the time of the run that made it, not of re-reading it
-        earlier = _finished(folder, record.get("fingerprint", ""))
-        if earlier is not None and isinstance(earlier[1].get("wall_s"), (int, float)):
-            record["wall_s"] = float(earlier[1]["wall_s"])
+    made = None if earlier is None else earlier.get("wall_s")
+    if isinstance(made, (int, float)):  # reused: the time of the run that made it
+        record["wall_s"] = float(made)
     _write_record(folder, record)
     return record
 
