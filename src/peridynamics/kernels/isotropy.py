@@ -1,7 +1,7 @@
 """Kernel of the isotropy factor of a bond-based family on a regular grid
 (:mod:`peridynamics.families.pmb.isotropy`): ``g(n) = 1 + sum_p lam_p phi_p(n)`` of every
 bond, ``phi_p`` the quartic monomials of the bond direction n. NumPy twin:
-:func:`peridynamics.families.pmb.isotropy.monomials` times ``lam``."""
+:func:`peridynamics.families.calibration.quartic_values` times ``lam``."""
 
 from __future__ import annotations
 
