@@ -85,6 +85,32 @@ def test_a_failed_check_fails_the_command(tmp_path, monkeypatch, capsys):
     assert report["passed"] is False and "FAIL" in (tmp_path / "cmd" / "verify.md").read_text()
 
 
+def test_a_series_case_runs_its_refinements_in_order(tmp_path):
+    """A case with ``series`` (a convergence study) runs the deck once more per entry,
+    with the entry's overrides added, into ``series_<k>/``; its checks read the runs in
+    order, and a rerun reuses all of them."""
+    bar = ("discretisation.spacing=0.02", "solver.time_step=4e-6", "solver.end_time=1e-4")
+    finer = (
+        ("discretisation.spacing=0.01", "solver.time_step=2e-6"),
+        ("discretisation.spacing=0.005", "solver.time_step=1e-6"),
+    )
+
+    def spacing(k: int) -> Check:
+        return Check(
+            f"spacing of series run {k}", "m",
+            lambda s: s["series"][k]["results"]["spacing_m"],
+            lambda i: (0.01, 0.005)[k], "the overrides", rel=1e-12,
+        )  # fmt: skip
+
+    study = Case("bar_series", "the bar at three spacings", "bar_wave_1d", quick=bar,
+                 series=finer, checks=(spacing(0), spacing(1)))  # fmt: skip
+    record = run_one(study, "quick", tmp_path)
+    assert record["status"] == "completed" and record["passed"], record
+    assert (tmp_path / "bar_series" / "series_1" / "summary.json").is_file()
+    again = run_one(study, "quick", tmp_path)
+    assert again["reused"] is True and again["passed"]
+
+
 def test_bad_arguments_name_the_option(tmp_path, capsys):
     assert main(["verify", "--only", "nothing*", "--out", str(tmp_path)]) == 2
     assert "--only 'nothing*' matches no case" in capsys.readouterr().err

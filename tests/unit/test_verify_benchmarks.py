@@ -13,6 +13,7 @@ import pytest
 from peridynamics.analysis.crack_chord import chord_angle_from
 from peridynamics.analysis.dcb import dcb_lefm_curve
 from peridynamics.analysis.dcb_events import breaking_events, dcb_event_ratios
+from peridynamics.app import verify_fracture as vf
 from peridynamics.app import verify_micropolar as vm
 from peridynamics.app.examples import list_examples
 from peridynamics.app.verify_cases import CASES, select
@@ -183,4 +184,64 @@ def test_bend_work_of_fracture_on_a_fabricated_curve():
     pin["force_N"][1][1] = 800.0  # 0.80 of it: the default run's miss
     assert not _judge("bend_work_of_fracture", 0, summary)[2]
     case = next(c for c in CASES if c.name == "bend_work_of_fracture")
-    assert case.quick is None and "stated miss" in case.title
+    assert case.quick is None and "solver.end_time=0.2" in (case.full or ())
+    assert inputs["discretisation"]["lattice_fracture_energy"] is True
+
+
+def test_bend_tail_law_on_a_fabricated_curve():
+    """A curve whose tail is exactly P = A / u^2: the fit finds A, the tail beyond the
+    run is A / u_end, and W_F + tail is the whole area (closed form)."""
+    inputs = _inputs("bend_work_of_fracture")
+    u1, p1, u_end = 50e-6, 1000.0, 2e-3
+    a = p1 * u1**2
+    rise = np.linspace(0.0, u1, 51)
+    fall = np.geomspace(u1, u_end, 4001)[1:]
+    disp = np.concatenate([rise, fall])
+    load = np.concatenate([p1 * rise / u1, a / fall**2])
+    summary = {"inputs": inputs, "results": {"rigid_bodies": {"pin": {}}}}
+    pin = summary["results"]["rigid_bodies"]["pin"]
+    pin["displacement_m"] = np.column_stack([np.zeros(disp.size), -disp]).tolist()
+    pin["force_N"] = np.column_stack([np.zeros(disp.size), load]).tolist()
+    assert vf.tail_work(summary) == pytest.approx(a / u_end, rel=1e-12)
+    assert vf.last_load_fraction(summary) == pytest.approx((u1 / u_end) ** 2)
+    whole = 0.5 * p1 * u1 + a / u1  # triangle + int_u1^inf A/u^2 du
+    assert vf.work_of_fracture_with_tail(summary) == pytest.approx(whole, rel=1e-5)
+    measured, reference, ok = _judge("bend_work_of_fracture", 1, summary)
+    assert measured == pytest.approx(6.25e-4) and reference == 0.01 and ok
+    pin["force_N"][-1][1] = 20.0  # 2 % of the peak: not carried far enough
+    assert not _judge("bend_work_of_fracture", 1, summary)[2]
+
+
+def _disc_summary(inputs: dict, peak: float) -> dict:
+    force = [[0.0, 0.0], [0.0, peak], [0.0, 0.2 * peak]]
+    return {"inputs": inputs, "results": {"rigid_bodies": {"top_platen": {"force_N": force}}}}
+
+
+def test_brazilian_studies_on_fabricated_peaks():
+    """2P/(pi D t) of the deck's disc (D = 50 mm, t = 25 mm), the spread and the step
+    ratio over the case's run and its two series runs, coarse to fine."""
+    from peridynamics.app import verify_brazilian as vb
+
+    inputs = _inputs("brazilian_m_convergence")
+    assert inputs["discretisation"]["spacing"] == pytest.approx(0.05 / 60)
+    case = next(c for c in CASES if c.name == "brazilian_m_convergence")
+    assert case.series == (("discretisation.spacing=0.000625",), ("discretisation.spacing=0.0005",))
+    peaks = [14.81e3, 15.23e3, 15.52e3]  # the README's m-study, kN
+    main = _disc_summary(inputs, peaks[0])
+    main["series"] = [_disc_summary(inputs, p) for p in peaks[1:]]
+    strength = [2.0 * p / (math.pi * 0.05 * 0.025) for p in peaks]
+    assert vb.splitting_strength(main) == pytest.approx(strength[0], rel=1e-12)
+    spread = (strength[2] - strength[0]) / np.mean(strength)
+    assert vb.strength_spread(main) == pytest.approx(spread, rel=1e-12)
+    assert vb.step_ratio(main) == pytest.approx(0.29 / 0.42, rel=1e-9)
+    assert [c.judge(c.measure(main), c.reference(inputs)) for c in case.checks] == [
+        True,
+        True,
+        True,
+    ]
+    main["series"][1] = _disc_summary(inputs, 16.5e3)  # a jump at the finest: not converged
+    assert not case.checks[0].judge(case.checks[0].measure(main), 0.05)
+    assert not case.checks[1].judge(case.checks[1].measure(main), 1.0)
+    delta = _inputs("brazilian_delta_convergence")
+    assert delta["discretisation"]["horizon"] == 2.5e-3
+    assert delta["discretisation"]["horizon_factor"] is None

@@ -75,15 +75,17 @@ def run_one(case: Case, tier: str, out: Path) -> dict[str, Any]:
         record["reused"] = earlier is not None
         summary = {**summary, "folder": str(folder)}  # checks that read the final fields
         if case.companion is not None:  # the same problem by another scheme
-            other = _load(case, tier, case.companion)
-            dump = other.model_dump(mode="json", by_alias=True)
-            sub = folder / "companion"
-            companion, _ = _run_deck(other, sub, _fingerprint(case, tier, dump))
-            companion["folder"] = str(sub)
-            _write_record(sub, {"fingerprint": _fingerprint(case, tier, dump)})
+            companion = _further_run(case, tier, case.companion, folder / "companion")
             summary = {**summary, "companion": companion}
             if companion.get("status", "completed") != "completed":
                 summary["status"] = "companion " + str(companion.get("status"))
+        if case.series:  # the refinements of a convergence study
+            runs = []
+            for k, extra in enumerate(case.series):
+                runs.append(_further_run(case, tier, extra, folder / f"series_{k}"))
+                if runs[-1].get("status", "completed") != "completed":
+                    summary["status"] = f"series_{k} " + str(runs[-1].get("status"))
+            summary = {**summary, "series": runs}
         record["status"] = summary.get("status", "completed")
         record["checks"] = _judge(case, summary)
         record["figures"] = [f for f in summary.get("files", []) if f.endswith(".png")]
@@ -99,6 +101,16 @@ def run_one(case: Case, tier: str, out: Path) -> dict[str, Any]:
         record["wall_s"] = float(made)
     _write_record(folder, record)
     return record
+
+
+def _further_run(case: Case, tier: str, extra: tuple[str, ...], sub: Path) -> dict[str, Any]:
+    """The summary of the case's deck with ``extra`` overrides added, run into ``sub``
+    (or reused from a finished run there with the same fingerprint)."""
+    other = _load(case, tier, extra)
+    fingerprint = _fingerprint(case, tier, other.model_dump(mode="json", by_alias=True))
+    summary, _ = _run_deck(other, sub, fingerprint)
+    _write_record(sub, {"fingerprint": fingerprint})
+    return {**summary, "folder": str(sub)}
 
 
 def _write_record(folder: Path, record: dict[str, Any]) -> None:

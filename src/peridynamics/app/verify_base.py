@@ -91,6 +91,11 @@ class Case:
         ``<case>/companion/``), whose summary the checks read as ``summary["companion"]``:
         a case whose reference is another scheme's run of the same problem (the 1-D
         finite-difference scheme against peridynamics with delta = dx). ``None``: one run.
+    series : tuple of tuple of str
+        Further runs of the same deck, each with these overrides added to the tier's
+        (into ``<case>/series_<k>/``), whose summaries the checks read as
+        ``summary["series"]`` (in order, after the case's own run): the refinements of a
+        convergence study. ``()``: none.
     """
 
     name: str
@@ -100,6 +105,7 @@ class Case:
     full: tuple[str, ...] = ()
     checks: tuple[Check, ...] = field(default_factory=tuple)
     companion: tuple[str, ...] | None = None
+    series: tuple[tuple[str, ...], ...] = ()
 
     def overrides(self, tier: str) -> tuple[str, ...] | None:
         """The overrides of ``tier`` (``"quick"`` or ``"full"``), ``None`` when the case

@@ -13,14 +13,20 @@ reference), never a number an earlier run of this code printed.
 
 The cases live by domain: waves (:mod:`~peridynamics.app.verify_waves`), static
 elasticity (:mod:`~peridynamics.app.verify_elastic`), dynamic fracture and fatigue
-(:mod:`~peridynamics.app.verify_fracture`) and the micropolar static solver
-(:mod:`~peridynamics.app.verify_micropolar`); :data:`CASES` lists them in report order.
+(:mod:`~peridynamics.app.verify_fracture`), the micropolar static solver
+(:mod:`~peridynamics.app.verify_micropolar`) and the Brazilian disc's convergence
+studies (:mod:`~peridynamics.app.verify_brazilian`, cases of several runs);
+:data:`CASES` lists them in report order.
 """
 
 from __future__ import annotations
 
 from peridynamics.app import verify_base
 from peridynamics.app.verify_base import Case, Check, Summary
+from peridynamics.app.verify_brazilian import (
+    BRAZILIAN_DELTA_CONVERGENCE,
+    BRAZILIAN_M_CONVERGENCE,
+)
 from peridynamics.app.verify_elastic import (
     PLATE_TENSION_ADR,
     PLATE_TENSION_EXPLICIT,
@@ -63,6 +69,8 @@ CASES: tuple[verify_base.Case, ...] = (
     MICROPOLAR_L_PANEL,
     MICROPOLAR_L_PANEL_PAPER,
     BEND_WORK_OF_FRACTURE,
+    BRAZILIAN_M_CONVERGENCE,
+    BRAZILIAN_DELTA_CONVERGENCE,
 )
 
 

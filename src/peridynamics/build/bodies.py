@@ -29,7 +29,13 @@ from peridynamics.bonds.bonds import Bonds
 from peridynamics.build.errors import SetupError
 from peridynamics.build.geometry import geometry_cloud
 from peridynamics.build.loads import time_function
-from peridynamics.build.materials import build_contact, build_damage, build_material, build_model
+from peridynamics.build.materials import (
+    build_contact,
+    build_damage,
+    build_material,
+    build_model,
+    calibrate_fracture_energy,
+)
 from peridynamics.build.regions import to_region
 from peridynamics.communicator import SERIAL, active_comm, using
 from peridynamics.evaluation import Evaluator
@@ -126,13 +132,17 @@ def build_bodies_model(
         except SetupError as exc:
             raise SetupError(key, str(exc).split(": ", 1)[-1]) from None
         name = "main" if spec is None else spec.name
-        materials[name], specs[name] = material, (m_spec, d_spec)
+        materials[name], specs[name] = material, (m_spec, d_spec, key)
     parts = []
     for k, name in enumerate(layout.names):
-        m_spec, d_spec = specs[name]
+        m_spec, d_spec, key = specs[name]
         start, stop = layout.range_of(k)
         local = _body_cloud(cloud, start, stop)
-        damage = build_damage(d_spec, m_spec, materials[name], local, sub_bonds(bonds, start, stop))
+        own = sub_bonds(bonds, start, stop)
+        materials[name] = calibrate_fracture_energy(
+            materials[name], deck.discretisation, local, own, key
+        )
+        damage = build_damage(d_spec, m_spec, materials[name], local, own)
         parts.append(BodyPart(name, start, stop, materials[name], damage))
     try:
         interfaces = build_interfaces(

@@ -89,6 +89,28 @@ def build_material(m: Any, disc: dk.Discretisation | None = None) -> Any:
         raise SetupError("material", str(exc)) from None
 
 
+def calibrate_fracture_energy(
+    material: Any, disc: dk.Discretisation | None, cloud: PointCloud, bonds: Bonds, key: str
+) -> Any:
+    """``material`` with its critical stretch calibrated on the grid's family when
+    ``discretisation.lattice_fracture_energy`` (bond-based materials:
+    ``with_lattice_fracture_energy``), else ``material`` itself; ``key`` names the
+    material section in the error of a family without the calibration."""
+    if disc is None or not disc.lattice_fracture_energy:
+        return material
+    calibrated = getattr(material, "with_lattice_fracture_energy", None)
+    if calibrated is None:
+        raise SetupError(
+            "discretisation.lattice_fracture_energy",
+            f"the calibration is built for bond-based materials (model pmb / bond_based), "
+            f"not {key} ({type(material).__name__}); remove the key",
+        )
+    try:
+        return calibrated(cloud, bonds, disc.surface_correction)
+    except ValueError as exc:
+        raise SetupError("discretisation.lattice_fracture_energy", str(exc)) from None
+
+
 #: a damage builder: (damage section, material spec, material, cloud, bonds, no-fail
 #: points or None) -> the damage object the evaluator binds
 DamageBuilder = Callable[[dk.Damage, Any, Any, PointCloud, Bonds, Any], Any]
@@ -191,6 +213,7 @@ def build_damage(dmg: dk.Damage, m: Any, material: Any, cloud: PointCloud, bonds
 def build_model(deck: dk.Deck, cloud: PointCloud, bonds: Bonds, body: list) -> Evaluator:
     """Material + damage + loads -> Evaluator."""
     material = build_material(deck.material, deck.discretisation)
+    material = calibrate_fracture_energy(material, deck.discretisation, cloud, bonds, "material")
     m = deck.material
     dmg = deck.damage
     damage = build_damage(dmg, m, material, cloud, bonds)

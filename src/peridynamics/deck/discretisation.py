@@ -23,6 +23,10 @@ class Discretisation(Strict):
     #: bond-based models on a regular 3-D grid: bond factors quartic in the direction
     #: make the family isotropic (nu = 1/4, E0), not the cubic lattice (nu 0.269)
     isotropic_family: bool = True
+    #: bond-based models on a regular grid: the critical stretch (and the softening
+    #: envelopes) from the fracture energy the grid's interior family holds across a
+    #: plane, not the continuous family's (families/pmb/fracture_energy.py)
+    lattice_fracture_energy: bool = False
     jitter: Annotated[float, Field(allow_inf_nan=False), Num] = 0.0
     seed: Annotated[int, Field(ge=0), Num] = 0
 

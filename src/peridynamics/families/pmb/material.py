@@ -22,7 +22,7 @@ K_2 = 2 h, K_3 = pi; for the constant profile this gives
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Literal
 
 import numpy as np
@@ -32,6 +32,7 @@ from peridynamics.bonds.bonds import Bonds, setup_chunk_bonds
 from peridynamics.bonds.search import bond_chunks
 from peridynamics.families.moduli import pmb_micromodulus
 from peridynamics.families.pmb.force import PMBForceModel
+from peridynamics.families.pmb.fracture_energy import fracture_energy_factor as lattice_factor
 from peridynamics.geometry.cloud import PointCloud
 
 Profile = Literal["constant", "conical"]
@@ -83,6 +84,13 @@ class BondBasedMaterial:
         :mod:`peridynamics.families.pmb.isotropy`). Part of the surface correction: no
         effect without it, in 1-D, 2-D or on irregular clouds. The deck key is
         ``discretisation.isotropic_family``.
+    fracture_energy_factor : float
+        G0 is multiplied by this (> 0) before the critical stretch is computed; 1: the
+        continuum calibration (Silling & Askari (2005)).
+        :meth:`with_lattice_fracture_energy` sets it so that the bonds of the grid's
+        interior family hold G0 across a plane
+        (:mod:`peridynamics.families.pmb.fracture_energy`; the deck key is
+        ``discretisation.lattice_fracture_energy``).
 
     Examples
     --------
@@ -96,8 +104,14 @@ class BondBasedMaterial:
     profile: Profile = "constant"
     micromodulus_value: float | None = None
     isotropic_family: bool = True
+    fracture_energy_factor: float = 1.0
 
     def __post_init__(self) -> None:
+        if not (self.fracture_energy_factor > 0 and math.isfinite(self.fracture_energy_factor)):
+            raise ValueError(
+                "fracture_energy_factor must be a finite value > 0, got "
+                f"{self.fracture_energy_factor}"
+            )
         if not (self.youngs_modulus > 0 and math.isfinite(self.youngs_modulus)):
             raise ValueError(
                 f"youngs_modulus must be a finite value > 0 Pa, got {self.youngs_modulus}"
@@ -189,7 +203,21 @@ class BondBasedMaterial:
         cross_section: float,
         plane: str | None,
     ) -> float:
-        """s0 from G0 (J/m^2), see the module docstring."""
+        """s0 from G0 (J/m^2): :meth:`continuum_critical_stretch` of
+        ``fracture_energy_factor * G0``."""
+        return self.continuum_critical_stretch(
+            self.fracture_energy_factor * fracture_energy, dim, horizon, cross_section, plane
+        )
+
+    def continuum_critical_stretch(
+        self,
+        fracture_energy: float,
+        dim: int,
+        horizon: float,
+        cross_section: float,
+        plane: str | None,
+    ) -> float:
+        """s0 from G0 (J/m^2) on the continuous family, see the module docstring."""
         if not fracture_energy > 0:
             raise ValueError(f"fracture_energy must be > 0 J/m^2, got {fracture_energy}")
         c0 = self.micromodulus_constant(dim, horizon, cross_section, plane)
@@ -197,6 +225,16 @@ class BondBasedMaterial:
         k_d = {1: cross_section, 2: 2.0 * cross_section, 3: math.pi}[dim]
         integral = scale * c0 * horizon ** (dim + 2) * _energy_moment(self.profile, dim)
         return math.sqrt(2.0 * fracture_energy / (k_d * integral))
+
+    def with_lattice_fracture_energy(
+        self, cloud: PointCloud, bonds: Bonds, surface_correction: bool
+    ) -> BondBasedMaterial:
+        """This material with the ``fracture_energy_factor`` that makes the interior
+        family of the regular grid of ``cloud`` hold G0 across a plane normal to a grid
+        axis (:func:`peridynamics.families.pmb.fracture_energy.fracture_energy_factor`;
+        ValueError off a regular grid)."""
+        factor = lattice_factor(self, cloud, bonds, surface_correction)
+        return replace(self, fracture_energy_factor=factor)
 
     def force_model(
         self, cloud: PointCloud, bonds: Bonds, surface_correction: bool = False
