@@ -19,7 +19,7 @@ import pytest
 
 import peridynamics as pd
 from peridynamics.build.errors import SetupError
-from peridynamics.families.pmb.fracture_energy import lattice_fracture_energy_ratio
+from peridynamics.families.pmb.fracture_energy import GridFamily, lattice_fracture_energy_ratio
 from peridynamics.families.pmb.material import BondBasedMaterial
 
 G0 = 50.0  # J/m^2
@@ -82,8 +82,10 @@ def _crossing_energy(deck: dict[str, Any]) -> tuple[float, float]:
         (2, 30, {"partial_volume": "extended"}),
         (2, 30, {"surface_correction": False}),
         (3, 18, {}),
+        (3, 10, {"horizon_factor": 1.0}),  # six axis bonds: no isotropy factors (warned)
     ],
 )
+@pytest.mark.filterwarnings("ignore:discretisation.isotropic_family")
 def test_interior_family_holds_g0(dim: int, cells: int, disc: dict[str, Any]) -> None:
     """With the key, the model's own interior bonds hold G0 across the plane (to
     round-off); without it they hold the lattice ratio, which differs from 1."""
@@ -100,16 +102,14 @@ def test_ratio_of_the_defaults() -> None:
     """The ratios the docs quote (delta = 3.015 dx, truncated partial volumes, surface
     correction on): 0.946 in plane stress, 0.944 in 3-D, 1.055 in 1-D."""
     mat = BondBasedMaterial(70.0e9, 2500.0)
-    args = (3.015 * DX, DX, "truncated")
-    assert lattice_fracture_energy_ratio(mat, 2, *args, 2e-3, "stress", True) == pytest.approx(
-        0.9461, abs=1e-4
-    )
-    assert lattice_fracture_energy_ratio(mat, 3, *args, 1.0, None, True) == pytest.approx(
-        0.9440, abs=1e-4
-    )
-    assert lattice_fracture_energy_ratio(mat, 1, *args, 1e-4, None, True) == pytest.approx(
-        1.0547, abs=1e-4
-    )
+
+    def ratio(dim: int, area: float, plane: str | None) -> float:
+        grid = GridFamily(dim, 3.015 * DX, DX, "truncated", area, plane, True)
+        return lattice_fracture_energy_ratio(mat, grid)
+
+    assert ratio(2, 2e-3, "stress") == pytest.approx(0.9461, abs=1e-4)
+    assert ratio(3, 1.0, None) == pytest.approx(0.9440, abs=1e-4)
+    assert ratio(1, 1e-4, None) == pytest.approx(1.0547, abs=1e-4)
 
 
 def test_softening_envelope_follows() -> None:

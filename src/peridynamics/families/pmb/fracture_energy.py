@@ -28,6 +28,7 @@ correction stiffens them); that part is not calibrated.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any, cast
 
 import numpy as np
@@ -45,57 +46,75 @@ from peridynamics.families.pmb.isotropy import (
 _STRAIN = 1e-6
 
 
+@dataclass(frozen=True)
+class GridFamily:
+    """One complete family of a regular grid as a run builds it.
+
+    Attributes
+    ----------
+    dim : int
+        1, 2 or 3.
+    horizon, spacing : float
+        delta and dx (m).
+    rule : {"truncated", "extended", "none"}
+        The partial-volume rule.
+    cross_section : float
+        Bar area (m^2, 1-D), plate thickness (m, 2-D); 1 in 3-D.
+    plane : {"stress", "strain"} or None
+        The 2-D model.
+    surface_correction : bool
+        Whether the bonds get the (interior) energy surface-correction factor.
+    """
+
+    dim: int
+    horizon: float
+    spacing: float
+    rule: PartialVolume
+    cross_section: float
+    plane: str | None
+    surface_correction: bool
+
+
 def lattice_bond_stiffness(
-    material: Any,
-    dim: int,
-    horizon: float,
-    spacing: float,
-    rule: PartialVolume,
-    cross_section: float,
-    plane: str | None,
-    surface_correction: bool,
+    material: Any, grid: GridFamily
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """The bond vectors ``xi`` (n, dim) (m) of one complete family of the regular grid
     and their stiffness per unit stretch ``k`` (n,) (N/m^3) as an interior point of a
     run has them: ``c(|xi|) beta V``, times the isotropy factors (3-D, when
-    ``material.isotropic_family``) and the interior factor of the energy surface
+    ``material.isotropic_family``; a family that cannot be made isotropic keeps its
+    factors, as the force model's does) and the interior factor of the energy surface
     correction (when ``surface_correction``), the operations of
     :class:`~peridynamics.families.pmb.force.PMBForceModel`."""
-    xi = lattice_offsets(horizon, spacing, rule, dim)
+    dim, horizon, area, plane = grid.dim, grid.horizon, grid.cross_section, grid.plane
+    xi = lattice_offsets(horizon, grid.spacing, grid.rule, dim)
     length = np.sqrt(np.einsum("ij,ij->i", xi, xi))
-    c = material.micromodulus(length, dim, horizon, cross_section, plane)
-    beta = partial_volume_factor(length, horizon, spacing, rule)
-    volume = spacing**dim * (cross_section if dim < 3 else 1.0)
+    c = material.micromodulus(length, dim, horizon, area, plane)
+    beta = partial_volume_factor(length, horizon, grid.spacing, grid.rule)
+    volume = grid.spacing**dim * (area if dim < 3 else 1.0)
     k = c * beta * volume
-    if surface_correction:
+    if grid.surface_correction:
         if dim == 3 and material.isotropic_family:
-            lam = isotropy_coefficients(xi, c * beta * length)
-            k = k * (1.0 + quartic_values(xi / length[:, None]) @ lam)
+            try:
+                lam = isotropy_coefficients(xi, c * beta * length)
+                k = k * (1.0 + quartic_values(xi / length[:, None]) @ lam)
+            except ValueError:  # the force model keeps the grid's family (and warns)
+                pass
         s = _STRAIN * (xi[:, 0] / length) ** 2
         w = float(np.sum(k * s * s * length))
-        w_inf = material.uniaxial_energy_density(_STRAIN, dim, horizon, cross_section, plane)
+        w_inf = material.uniaxial_energy_density(_STRAIN, dim, horizon, area, plane)
         k = k * (w_inf / (0.25 * w))
     return xi, np.asarray(k, dtype=np.float64)
 
 
-def lattice_fracture_energy_ratio(
-    material: Any,
-    dim: int,
-    horizon: float,
-    spacing: float,
-    rule: PartialVolume,
-    cross_section: float,
-    plane: str | None,
-    surface_correction: bool,
-) -> float:
+def lattice_fracture_energy_ratio(material: Any, grid: GridFamily) -> float:
     """G_lattice / G0 (dimensionless): the energy per unit area (J/m^2) that the bonds of
     the grid's interior family hold across a plane normal to a grid axis when they break
     at the continuum critical stretch of G0, over G0 (module docstring)."""
-    xi, k = lattice_bond_stiffness(
-        material, dim, horizon, spacing, rule, cross_section, plane, surface_correction
-    )
+    xi, k = lattice_bond_stiffness(material, grid)
     g0 = 1.0  # J/m^2: the ratio does not depend on it (s_c^2 is proportional to G0)
-    s_c = material.continuum_critical_stretch(g0, dim, horizon, cross_section, plane)
+    s_c = material.continuum_critical_stretch(
+        g0, grid.dim, grid.horizon, grid.cross_section, grid.plane
+    )
     length = np.sqrt(np.einsum("ij,ij->i", xi, xi))
     cross = xi[:, 0] > 0.0
     held = float(np.sum(xi[cross, 0] * 0.5 * k[cross] * s_c * s_c * length[cross]))
@@ -116,11 +135,11 @@ def fracture_energy_factor(
             "grid): the calibration needs the grid's family; remove the key or use a "
             "grid geometry"
         )
-    ratio = lattice_fracture_energy_ratio(
-        material, cloud.dim, bonds.horizon, bonds.spacing,
-        cast(PartialVolume, bonds.partial_volume), cloud.cross_section, cloud.plane,
-        surface_correction,
+    grid = GridFamily(
+        cloud.dim, bonds.horizon, bonds.spacing, cast(PartialVolume, bonds.partial_volume),
+        cloud.cross_section, cloud.plane, surface_correction,
     )  # fmt: skip
+    ratio = lattice_fracture_energy_ratio(material, grid)
     if not (math.isfinite(ratio) and ratio > 0.0):
         raise ValueError(f"the grid's family holds {ratio:.3g} G0 across a plane")
     return 1.0 / ratio
