@@ -13,8 +13,8 @@ the force and the central-difference gradient over the checked degrees of freedo
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import json
+import runpy
 from pathlib import Path
 from typing import Any
 
@@ -23,12 +23,9 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 
 
-def _toy() -> Any:
-    spec = importlib.util.spec_from_file_location("toy_family", HERE / "toy_family.py")
-    assert spec is not None and spec.loader is not None
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+def _toy_spring_model() -> Any:
+    """``ToySpringModel`` of ``toy_family.py`` (beside this script, not a package)."""
+    return runpy.run_path(str(HERE / "toy_family.py"), run_name="toy_family")["ToySpringModel"]
 
 
 def measure(n_checked: int = 40, seed: int = 0) -> dict[str, Any]:
@@ -42,7 +39,7 @@ def measure(n_checked: int = 40, seed: int = 0) -> dict[str, Any]:
     from peridynamics.state import State
 
     plate = rectangle((0.01, 0.01), 5e-4, thickness=1e-3, plane="stress")
-    model = _toy().ToySpringModel(plate, build_bonds(plate, 3.015 * 5e-4), c=1e20)
+    model = _toy_spring_model()(plate, build_bonds(plate, 3.015 * 5e-4), c=1e20)
     n = plate.n_points
 
     def state(u: np.ndarray) -> Any:
