@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import re
+import shutil
 from pathlib import Path
 
 import pytest
@@ -109,6 +110,14 @@ def test_a_series_case_runs_its_refinements_in_order(tmp_path):
     assert (tmp_path / "bar_series" / "series_1" / "summary.json").is_file()
     again = run_one(study, "quick", tmp_path)
     assert again["reused"] is True and again["passed"]
+    assert again["wall_s"] == record["wall_s"]  # all reused: the time that made them
+    # a refinement added to a finished case (here: one removed) runs alone, and the
+    # case's time is the earlier call's plus that run's, not the earlier call's only
+    shutil.rmtree(tmp_path / "bar_series" / "series_1")
+    extended = run_one(study, "quick", tmp_path)
+    assert extended["reused"] is True and extended["passed"]
+    assert extended["wall_s"] > record["wall_s"]
+    assert run_one(study, "quick", tmp_path)["wall_s"] == extended["wall_s"]
 
 
 def test_bad_arguments_name_the_option(tmp_path, capsys):

@@ -185,7 +185,32 @@ def test_bend_work_of_fracture_on_a_fabricated_curve():
     assert not _judge("bend_work_of_fracture", 0, summary)[2]
     case = next(c for c in CASES if c.name == "bend_work_of_fracture")
     assert case.quick is None and "solver.end_time=0.2" in (case.full or ())
+    assert case.series == (("discretisation.spacing=0.00125",),)
     assert inputs["discretisation"]["lattice_fracture_energy"] is True
+
+
+def _triangle(inputs: dict, peak: float) -> dict:
+    """A bend summary whose load rises to ``peak`` at 50 um and falls to 0 at 250 um
+    (area peak x 125e-6 J: 0.125 J at 1000 N)."""
+    disp = np.array([0.0, 50e-6, 250e-6])
+    pin = {"displacement_m": np.column_stack([np.zeros(3), -disp]).tolist(),
+           "force_N": np.column_stack([np.zeros(3), [0.0, peak, 0.0]]).tolist()}  # fmt: skip
+    return {"inputs": inputs, "results": {"rigid_bodies": {"pin": pin}}}
+
+
+def test_bend_checks_read_the_finest_run_and_the_shortfall_ratio():
+    """The W_F checks read the finest run (the series' last); the ratio of the
+    shortfalls 1 - W_F / (G_F t (D - a0)), finest over the deck's run, closes under
+    refinement (0.04 / 0.20 = 0.2) or fails when it widens."""
+    inputs = _inputs("bend_work_of_fracture")
+    coarse, fine = _triangle(inputs, 800.0), _triangle(inputs, 960.0)
+    summary = {**coarse, "series": [fine]}
+    measured, reference, ok = _judge("bend_work_of_fracture", 0, summary)
+    assert measured == pytest.approx(0.96 * 0.125) and ok  # the finest run's W_F
+    measured, reference, ok = _judge("bend_work_of_fracture", 4, summary)
+    assert measured == pytest.approx(0.2) and reference == 1.0 and ok
+    assert not _judge("bend_work_of_fracture", 4, {**fine, "series": [coarse]})[2]
+    assert not _judge("bend_work_of_fracture", 3, summary)[2]  # the deck's run: 0.80
 
 
 def test_bend_tail_law_on_a_fabricated_curve():

@@ -68,6 +68,7 @@ def run_one(case: Case, tier: str, out: Path) -> dict[str, Any]:
                               "overrides": list(case.overrides(tier) or ())}  # fmt: skip
     t0 = time.perf_counter()
     earlier: dict[str, Any] | None = None  # the record of the run a reused case comes from
+    ran_now = 0.0  # seconds of further runs (companion, series) run by this call
     try:
         deck = _load(case, tier)
         fingerprint = _fingerprint(case, tier, deck.model_dump(mode="json", by_alias=True))
@@ -76,6 +77,7 @@ def run_one(case: Case, tier: str, out: Path) -> dict[str, Any]:
         summary = {**summary, "folder": str(folder)}  # checks that read the final fields
         if case.companion is not None:  # the same problem by another scheme
             companion = _further_run(case, tier, case.companion, folder / "companion")
+            ran_now += float(companion.pop("ran_now_s"))
             summary = {**summary, "companion": companion}
             if companion.get("status", "completed") != "completed":
                 summary["status"] = "companion " + str(companion.get("status"))
@@ -83,6 +85,7 @@ def run_one(case: Case, tier: str, out: Path) -> dict[str, Any]:
             runs = []
             for k, extra in enumerate(case.series):
                 runs.append(_further_run(case, tier, extra, folder / f"series_{k}"))
+                ran_now += float(runs[-1].pop("ran_now_s"))
                 if runs[-1].get("status", "completed") != "completed":
                     summary["status"] = f"series_{k} " + str(runs[-1].get("status"))
             summary = {**summary, "series": runs}
@@ -97,20 +100,23 @@ def run_one(case: Case, tier: str, out: Path) -> dict[str, Any]:
     )
     record["wall_s"] = time.perf_counter() - t0
     made = None if earlier is None else earlier.get("wall_s")
-    if isinstance(made, (int, float)):  # reused: the time of the run that made it
-        record["wall_s"] = float(made)
+    if isinstance(made, (int, float)):  # reused: the time of the call that made it,
+        record["wall_s"] = float(made) + ran_now  # plus further runs made only now
     _write_record(folder, record)
     return record
 
 
 def _further_run(case: Case, tier: str, extra: tuple[str, ...], sub: Path) -> dict[str, Any]:
     """The summary of the case's deck with ``extra`` overrides added, run into ``sub``
-    (or reused from a finished run there with the same fingerprint)."""
+    (or reused from a finished run there with the same fingerprint), with the seconds
+    this call spent running it as ``ran_now_s`` (0 when reused)."""
     other = _load(case, tier, extra)
     fingerprint = _fingerprint(case, tier, other.model_dump(mode="json", by_alias=True))
-    summary, _ = _run_deck(other, sub, fingerprint)
+    t0 = time.perf_counter()
+    summary, earlier = _run_deck(other, sub, fingerprint)
     _write_record(sub, {"fingerprint": fingerprint})
-    return {**summary, "folder": str(sub)}
+    ran = 0.0 if earlier is not None else time.perf_counter() - t0
+    return {**summary, "folder": str(sub), "ran_now_s": ran}
 
 
 def _write_record(folder: Path, record: dict[str, Any]) -> None:
