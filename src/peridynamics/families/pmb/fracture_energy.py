@@ -28,7 +28,7 @@ correction stiffens them); that part is not calibrated.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, cast
 
 import numpy as np
@@ -112,9 +112,8 @@ def lattice_fracture_energy_ratio(material: Any, grid: GridFamily) -> float:
     at the continuum critical stretch of G0, over G0 (module docstring)."""
     xi, k = lattice_bond_stiffness(material, grid)
     g0 = 1.0  # J/m^2: the ratio does not depend on it (s_c^2 is proportional to G0)
-    s_c = material.continuum_critical_stretch(
-        g0, grid.dim, grid.horizon, grid.cross_section, grid.plane
-    )
+    continuum = replace(material, fracture_energy_factor=1.0)  # the continuum calibration
+    s_c = continuum.critical_stretch(g0, grid.dim, grid.horizon, grid.cross_section, grid.plane)
     length = np.sqrt(np.einsum("ij,ij->i", xi, xi))
     cross = xi[:, 0] > 0.0
     held = float(np.sum(xi[cross, 0] * 0.5 * k[cross] * s_c * s_c * length[cross]))

@@ -203,28 +203,17 @@ class BondBasedMaterial:
         cross_section: float,
         plane: str | None,
     ) -> float:
-        """s0 from G0 (J/m^2): :meth:`continuum_critical_stretch` of
-        ``fracture_energy_factor * G0``."""
-        return self.continuum_critical_stretch(
-            self.fracture_energy_factor * fracture_energy, dim, horizon, cross_section, plane
-        )
-
-    def continuum_critical_stretch(
-        self,
-        fracture_energy: float,
-        dim: int,
-        horizon: float,
-        cross_section: float,
-        plane: str | None,
-    ) -> float:
-        """s0 from G0 (J/m^2) on the continuous family, see the module docstring."""
+        """s0 from G0 (J/m^2): the continuous family's critical stretch (see the module
+        docstring) of ``fracture_energy_factor * G0`` (the factor 1 unless
+        ``discretisation.lattice_fracture_energy`` set it)."""
         if not fracture_energy > 0:
             raise ValueError(f"fracture_energy must be > 0 J/m^2, got {fracture_energy}")
         c0 = self.micromodulus_constant(dim, horizon, cross_section, plane)
         scale = 1.0 if self.profile == "constant" else float(dim + 2)
         k_d = {1: cross_section, 2: 2.0 * cross_section, 3: math.pi}[dim]
         integral = scale * c0 * horizon ** (dim + 2) * _energy_moment(self.profile, dim)
-        return math.sqrt(2.0 * fracture_energy / (k_d * integral))
+        energy = self.fracture_energy_factor * fracture_energy
+        return math.sqrt(2.0 * energy / (k_d * integral))
 
     def with_lattice_fracture_energy(
         self, cloud: PointCloud, bonds: Bonds, surface_correction: bool
