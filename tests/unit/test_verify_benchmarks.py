@@ -170,25 +170,6 @@ def test_l_panel_measure_reads_the_seed_and_the_path():
     assert not _judge("micropolar_l_panel", 0, summary)[2]
 
 
-def test_bend_work_of_fracture_on_a_fabricated_curve():
-    inputs = _inputs("bend_work_of_fracture")
-    # G_F t (D - a0) = 100 J/m^2 x 0.05 m x 0.025 m (README: 0.125 J)
-    summary = {"inputs": inputs, "results": {"rigid_bodies": {"pin": {}}}}
-    pin = summary["results"]["rigid_bodies"]["pin"]
-    # a triangle: 0 -> 1000 N at 50 um, back to 0 at 250 um: area 0.125 J
-    disp = np.array([0.0, 50e-6, 250e-6])
-    pin["displacement_m"] = np.column_stack([np.zeros(3), -disp]).tolist()
-    pin["force_N"] = np.column_stack([np.zeros(3), [0.0, 1000.0, 0.0]]).tolist()
-    measured, reference, ok = _judge("bend_work_of_fracture", 0, summary)
-    assert reference == pytest.approx(0.125) and measured == pytest.approx(0.125) and ok
-    pin["force_N"][1][1] = 800.0  # 0.80 of it: the default run's miss
-    assert not _judge("bend_work_of_fracture", 0, summary)[2]
-    case = next(c for c in CASES if c.name == "bend_work_of_fracture")
-    assert case.quick is None and "solver.end_time=0.2" in (case.full or ())
-    assert case.series == (("discretisation.spacing=0.00125",),)
-    assert inputs["discretisation"]["lattice_fracture_energy"] is True
-
-
 def _triangle(inputs: dict, peak: float) -> dict:
     """A bend summary whose load rises to ``peak`` at 50 um and falls to 0 at 250 um
     (area peak x 125e-6 J: 0.125 J at 1000 N)."""
@@ -196,6 +177,20 @@ def _triangle(inputs: dict, peak: float) -> dict:
     pin = {"displacement_m": np.column_stack([np.zeros(3), -disp]).tolist(),
            "force_N": np.column_stack([np.zeros(3), [0.0, peak, 0.0]]).tolist()}  # fmt: skip
     return {"inputs": inputs, "results": {"rigid_bodies": {"pin": pin}}}
+
+
+def test_bend_work_of_fracture_on_a_fabricated_curve():
+    inputs = _inputs("bend_work_of_fracture")
+    # G_F t (D - a0) = 100 J/m^2 x 0.05 m x 0.025 m (README: 0.125 J)
+    summary = _triangle(inputs, 1000.0)  # area 0.125 J
+    measured, reference, ok = _judge("bend_work_of_fracture", 0, summary)
+    assert reference == pytest.approx(0.125) and measured == pytest.approx(0.125) and ok
+    summary = _triangle(inputs, 800.0)  # 0.80 of it: the default run's miss
+    assert not _judge("bend_work_of_fracture", 0, summary)[2]
+    case = next(c for c in CASES if c.name == "bend_work_of_fracture")
+    assert case.quick is None and "solver.end_time=0.2" in (case.full or ())
+    assert case.series == (("discretisation.spacing=0.00125",),)
+    assert inputs["discretisation"]["lattice_fracture_energy"] is True
 
 
 def test_bend_checks_read_the_finest_run_and_the_shortfall_ratio():

@@ -76,16 +76,17 @@ def run_one(case: Case, tier: str, out: Path) -> dict[str, Any]:
         record["reused"] = earlier is not None
         summary = {**summary, "folder": str(folder)}  # checks that read the final fields
         if case.companion is not None:  # the same problem by another scheme
-            companion = _further_run(case, tier, case.companion, folder / "companion")
-            ran_now += float(companion.pop("ran_now_s"))
+            companion, took = _further_run(case, tier, case.companion, folder / "companion")
+            ran_now += took
             summary = {**summary, "companion": companion}
             if companion.get("status", "completed") != "completed":
                 summary["status"] = "companion " + str(companion.get("status"))
         if case.series:  # the refinements of a convergence study
             runs = []
             for k, extra in enumerate(case.series):
-                runs.append(_further_run(case, tier, extra, folder / f"series_{k}"))
-                ran_now += float(runs[-1].pop("ran_now_s"))
+                run, took = _further_run(case, tier, extra, folder / f"series_{k}")
+                runs.append(run)
+                ran_now += took
                 if runs[-1].get("status", "completed") != "completed":
                     summary["status"] = f"series_{k} " + str(runs[-1].get("status"))
             summary = {**summary, "series": runs}
@@ -106,17 +107,19 @@ def run_one(case: Case, tier: str, out: Path) -> dict[str, Any]:
     return record
 
 
-def _further_run(case: Case, tier: str, extra: tuple[str, ...], sub: Path) -> dict[str, Any]:
+def _further_run(
+    case: Case, tier: str, extra: tuple[str, ...], sub: Path
+) -> tuple[dict[str, Any], float]:
     """The summary of the case's deck with ``extra`` overrides added, run into ``sub``
-    (or reused from a finished run there with the same fingerprint), with the seconds
-    this call spent running it as ``ran_now_s`` (0 when reused)."""
+    (or reused from a finished run there with the same fingerprint), and the seconds
+    this call spent running it (0 when reused)."""
     other = _load(case, tier, extra)
     fingerprint = _fingerprint(case, tier, other.model_dump(mode="json", by_alias=True))
     t0 = time.perf_counter()
     summary, earlier = _run_deck(other, sub, fingerprint)
     _write_record(sub, {"fingerprint": fingerprint})
     ran = 0.0 if earlier is not None else time.perf_counter() - t0
-    return {**summary, "folder": str(sub), "ran_now_s": ran}
+    return {**summary, "folder": str(sub)}, ran
 
 
 def _write_record(folder: Path, record: dict[str, Any]) -> None:

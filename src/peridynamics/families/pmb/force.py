@@ -28,7 +28,7 @@ if TYPE_CHECKING:
 
 #: uniaxial strain of the surface-correction calibration: small, so that the geometric
 #: nonlinearity of the stretch (relative O(strain)) does not bias the factors
-_CALIBRATION_STRAIN = 1e-6
+CALIBRATION_STRAIN = 1e-6
 
 
 class PMBConstants(Protocol):
@@ -110,17 +110,17 @@ class PMBForceModel(LargestStretchPass, ForceModel):
             if iso is not None:
                 raw = raw * iso
             w_inf = material.uniaxial_energy_density(
-                _CALIBRATION_STRAIN, cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
+                CALIBRATION_STRAIN, cloud.dim, bonds.horizon, cloud.cross_section, cloud.plane
             )
             # irregular clouds (jittered grids): the moment method calibrates every
             # uniform strain, not only stretches along the axes (nu stays right)
             if cloud.irregular:
                 factors = moment_correction_factors(
-                    cloud.x, bonds, raw, w_inf, _CALIBRATION_STRAIN, calibrate=calibrate_influence
+                    cloud.x, bonds, raw, w_inf, CALIBRATION_STRAIN, calibrate=calibrate_influence
                 )
             else:
                 factors = energy_correction_factors(
-                    cloud.x, bonds, raw, w_inf, _CALIBRATION_STRAIN, active_comm()
+                    cloud.x, bonds, raw, w_inf, CALIBRATION_STRAIN, active_comm()
                 )
             bonds = bonds.with_correction(factors if iso is None else factors * iso)
         self.bonds = bonds

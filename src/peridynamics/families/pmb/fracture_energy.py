@@ -34,16 +34,10 @@ from typing import Any, cast
 import numpy as np
 from numpy.typing import NDArray
 
-from peridynamics.bonds.partial_volume import PartialVolume, partial_volume_factor
+from peridynamics.bonds.partial_volume import PartialVolume
 from peridynamics.families.calibration import quartic_values
-from peridynamics.families.pmb.isotropy import (
-    isotropy_coefficients,
-    lattice_offsets,
-    on_grid,
-)
-
-#: uniaxial strain of the interior surface-correction factor (as the force model's)
-_STRAIN = 1e-6
+from peridynamics.families.pmb.force import CALIBRATION_STRAIN
+from peridynamics.families.pmb.isotropy import isotropy_coefficients, lattice_family, on_grid
 
 
 @dataclass(frozen=True)
@@ -86,22 +80,21 @@ def lattice_bond_stiffness(
     correction (when ``surface_correction``), the operations of
     :class:`~peridynamics.families.pmb.force.PMBForceModel`."""
     dim, horizon, area, plane = grid.dim, grid.horizon, grid.cross_section, grid.plane
-    xi = lattice_offsets(horizon, grid.spacing, grid.rule, dim)
-    length = np.sqrt(np.einsum("ij,ij->i", xi, xi))
-    c = material.micromodulus(length, dim, horizon, area, plane)
-    beta = partial_volume_factor(length, horizon, grid.spacing, grid.rule)
+    xi, length, c_beta = lattice_family(
+        material, dim, horizon, grid.spacing, grid.rule, area, plane
+    )
     volume = grid.spacing**dim * (area if dim < 3 else 1.0)
-    k = c * beta * volume
+    k = c_beta * volume
     if grid.surface_correction:
         if dim == 3 and material.isotropic_family:
             try:
-                lam = isotropy_coefficients(xi, c * beta * length)
+                lam = isotropy_coefficients(xi, c_beta * length)
                 k = k * (1.0 + quartic_values(xi / length[:, None]) @ lam)
             except ValueError:  # the force model keeps the grid's family (and warns)
                 pass
-        s = _STRAIN * (xi[:, 0] / length) ** 2
+        s = CALIBRATION_STRAIN * (xi[:, 0] / length) ** 2
         w = float(np.sum(k * s * s * length))
-        w_inf = material.uniaxial_energy_density(_STRAIN, dim, horizon, area, plane)
+        w_inf = material.uniaxial_energy_density(CALIBRATION_STRAIN, dim, horizon, area, plane)
         k = k * (w_inf / (0.25 * w))
     return xi, np.asarray(k, dtype=np.float64)
 

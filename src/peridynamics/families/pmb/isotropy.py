@@ -117,18 +117,38 @@ def direction_factors(bonds: Bonds, lam: NDArray[np.float64], dim: int) -> NDArr
     return out
 
 
+def lattice_family(
+    material: Any,
+    dim: int,
+    horizon: float,
+    spacing: float,
+    rule: PartialVolume,
+    cross_section: float,
+    plane: str | None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """One complete family of the regular grid of ``spacing``: its bond vectors ``xi``
+    (n, dim) (m, :func:`lattice_offsets`), their lengths (n,) (m) and ``c(|xi|) beta``
+    (n,) (N/m^6, the micromodulus of ``material``'s profile,
+    ``material.micromodulus(length, dim, horizon, cross_section, plane)``, times the
+    partial volume factor of ``rule``)."""
+    xi = lattice_offsets(horizon, spacing, rule, dim)
+    length = np.sqrt(np.einsum("ij,ij->i", xi, xi))
+    c = material.micromodulus(length, dim, horizon, cross_section, plane)
+    beta = partial_volume_factor(length, horizon, spacing, rule)
+    return xi, length, c * beta
+
+
 def lattice_isotropy_factors(
     material: Any, dim: int, bonds: Bonds, cross_section: float, plane: str | None
 ) -> NDArray[np.float64]:
     """Per-bond factors (n_bonds,) that make every complete family of the regular grid
     of ``bonds.spacing`` isotropic for ``material``'s micromodulus profile
-    (``material.micromodulus(length, dim, horizon, cross_section, plane)``)."""
+    (:func:`lattice_family`)."""
     rule = cast(PartialVolume, bonds.partial_volume)
-    xi = lattice_offsets(bonds.horizon, bonds.spacing, rule, dim)
-    length = np.sqrt(np.einsum("ij,ij->i", xi, xi))
-    c = material.micromodulus(length, dim, bonds.horizon, cross_section, plane)
-    beta = partial_volume_factor(length, bonds.horizon, bonds.spacing, rule)
-    lam = isotropy_coefficients(xi, c * beta * length)
+    xi, length, c_beta = lattice_family(
+        material, dim, bonds.horizon, bonds.spacing, rule, cross_section, plane
+    )
+    lam = isotropy_coefficients(xi, c_beta * length)
     return direction_factors(bonds, lam, dim)
 
 
